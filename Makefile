@@ -1,0 +1,65 @@
+# photolib course: two commands do everything on a fresh machine.
+#   make lab   -> .venv with the course extras, JupyterLab on notebooks/00-start.ipynb
+#   make test  -> .venv with the test extras, every test (unit, doctest, codegen sync, nbval, grader, browser)
+PYTHON ?= python3
+VENV   ?= .venv
+BIN    := $(VENV)/bin
+PORT   ?= 8888
+IP     ?= 127.0.0.1
+# Headless by default: set BROWSER=1 to let JupyterLab open a browser tab.
+BROWSER ?= 0
+# Empty token: JupyterLab listens on 127.0.0.1 only and answers /lab without login.
+TOKEN  ?=
+JOBS   ?= 2
+
+.PHONY: lab test test-fast bench regen assign clean help
+
+help:
+	@echo "make lab    - install the course into $(VENV) and start JupyterLab (PORT=$(PORT), BROWSER=$(BROWSER))"
+	@echo "make test   - install the test extras into $(VENV) and run every test"
+	@echo "make bench  - run the benchmarks in benchmarks/ (not part of the tests)"
+	@echo "make regen  - regenerate photolib/_generated from photolib/derive"
+	@echo "make assign - regenerate the student copies in exercises/ from solutions/"
+
+$(BIN)/python:
+	$(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install --quiet --upgrade pip
+
+$(VENV)/.course-installed: pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install --quiet -e '.[course]'
+	touch $@
+
+$(VENV)/.test-installed: pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install --quiet -e '.[test]'
+	touch $@ $(VENV)/.course-installed
+
+lab: $(VENV)/.course-installed
+	$(BIN)/python -m jupyter lab notebooks/00-start.ipynb \
+		--ServerApp.ip=$(IP) --ServerApp.port=$(PORT) --ServerApp.port_retries=0 \
+		--ServerApp.root_dir=$(CURDIR) \
+		--IdentityProvider.token='$(TOKEN)' --ServerApp.password='' \
+		$(if $(filter 1 yes true,$(BROWSER)),,--no-browser)
+
+test: $(VENV)/.test-installed
+	$(BIN)/python -m pytest -q -n $(JOBS) -m "not browser" tests photolib --doctest-modules
+	$(BIN)/python -m pytest -q -n $(JOBS) --dist loadfile --nbval --nbval-sanitize-with tests/nbval_sanitize.cfg \
+		$$(ls notebooks/*.ipynb solutions/*.ipynb 2>/dev/null)
+	@if ls exercises/*.ipynb >/dev/null 2>&1; then \
+		$(BIN)/python -m pytest -q -n $(JOBS) --dist loadfile --nbval-lax exercises/*.ipynb; \
+	else echo "no exercise notebooks yet"; fi
+	$(BIN)/python -m pytest -q -rs -m browser tests
+
+test-fast: $(VENV)/.test-installed
+	$(BIN)/python -m pytest -q -n $(JOBS) tests photolib --doctest-modules -m "not slow"
+
+bench: $(VENV)/.test-installed
+	$(BIN)/python -m benchmarks
+
+regen: $(VENV)/.test-installed
+	$(BIN)/python -m photolib.codegen
+
+assign: $(VENV)/.test-installed
+	$(BIN)/python -m photolib assign
+
+clean:
+	rm -rf $(VENV) .pytest_cache build *.egg-info

@@ -1,0 +1,42 @@
+"""Command line of the course: ``python -m photolib COMMAND ...``.
+
+Commands
+--------
+errata         print the verdict table of the errata catalogue (``--id``, ``--json``)
+check-formula  check a typed formula against a catalogue record
+assign         generate the student copies in ``exercises/`` from ``solutions/``
+grade          grade submitted notebooks into a gradebook
+codegen        regenerate ``photolib/_generated`` from ``photolib/derive``
+"""
+
+from __future__ import annotations
+
+import importlib
+import sys
+
+#: command -> "module:function" taking argv (list of str) and returning an exit code
+COMMANDS = {
+    "errata": "photolib.errata.cli:errata_main",
+    "check-formula": "photolib.errata.cli:check_formula_main",
+    "assign": "photolib.grading.cli:assign_main",
+    "grade": "photolib.grading.cli:grade_main",
+    "codegen": "photolib.codegen:main",
+}
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if not argv or argv[0] in ("-h", "--help"):
+        print(__doc__.strip())
+        return 0
+    name, rest = argv[0], argv[1:]
+    if name not in COMMANDS:
+        print(f"photolib: unknown command {name!r}; choose one of {', '.join(COMMANDS)}",
+              file=sys.stderr)
+        return 2
+    module, func = COMMANDS[name].split(":")
+    return int(getattr(importlib.import_module(module), func)(rest) or 0)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
