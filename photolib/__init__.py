@@ -8,4 +8,30 @@ clear errors and the conventions of ``docs/conventions.md``.
 
 from __future__ import annotations
 
+from photolib.angles import deg2gon, deg2rad, gon2deg, gon2rad, rad2deg, rad2gon, wrap_angle
+from photolib.collinearity import PointBehindCameraError, collinearity_jacobian, monoplot, project
+from photolib.distortion import ConvergenceReport, Distortion, DistortionDivergenceError, OpenCVFit
+from photolib.pixels import image_from_pixel, pixel_from_image
+from photolib.rotations import (
+    GimbalLockError,
+    exterior_from_opencv_pose,
+    opencv_pose_from_exterior,
+    opk_from_rotation,
+    pok_from_rotation,
+    rotation_2d,
+    rotation_from_wolf_m,
+    rotation_opk,
+    rotation_pok,
+    wolf_m_from_rotation,
+)
+
 __version__ = "0.1.0"
+
+__all__ = [
+    "ConvergenceReport", "Distortion", "DistortionDivergenceError", "GimbalLockError",
+    "OpenCVFit", "PointBehindCameraError", "collinearity_jacobian", "deg2gon", "deg2rad",
+    "exterior_from_opencv_pose", "gon2deg", "gon2rad", "image_from_pixel", "monoplot",
+    "opencv_pose_from_exterior", "opk_from_rotation", "pixel_from_image", "pok_from_rotation",
+    "project", "rad2deg", "rad2gon", "rotation_2d", "rotation_from_wolf_m", "rotation_opk",
+    "rotation_pok", "wolf_m_from_rotation", "wrap_angle",
+]

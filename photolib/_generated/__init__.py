@@ -1,0 +1,1 @@
+"""Generated NumPy code; see photolib/codegen.py. Do not edit."""

@@ -1,0 +1,69 @@
+"""Input checks shared by the numeric modules: shapes, finiteness, clear messages."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def as_points(values, dim: int, name: str) -> tuple[np.ndarray, bool]:
+    """Return ``(points (N, dim) float array, single)``; ``single`` if a (dim,) point was given.
+
+    Raises ``ValueError`` naming ``name``, the shape and the first non-finite entry.
+    """
+    try:
+        arr = np.asarray(values, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{name} must be numeric with shape (N, {dim}) or ({dim},): {exc}") from None
+    single = arr.ndim == 1
+    if single:
+        arr = arr[None, :]
+    if arr.ndim != 2 or arr.shape[1] != dim:
+        raise ValueError(f"{name} has shape {np.shape(values)}; expected (N, {dim}) or ({dim},)")
+    check_finite(arr, name)
+    return arr, single
+
+
+def check_finite(arr: np.ndarray, name: str) -> None:
+    """Raise ``ValueError`` naming the first NaN/inf entry of ``arr``."""
+    if not np.all(np.isfinite(arr)):
+        bad = np.argwhere(~np.isfinite(arr))[0]
+        where = tuple(int(i) for i in bad)
+        raise ValueError(f"{name} contains a non-finite value {float(arr[where])!r} at index {where}")
+
+
+def as_scalar(value, name: str, *, positive: bool = False) -> float:
+    """A finite float; with ``positive`` it must be > 0."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a real number, got {value!r}") from None
+    if not np.isfinite(v):
+        raise ValueError(f"{name} must be finite, got {v!r}")
+    if positive and v <= 0:
+        raise ValueError(f"{name} must be > 0, got {v!r}")
+    return v
+
+
+def as_vector3(value, name: str) -> np.ndarray:
+    """A finite (3,) float vector."""
+    arr = np.asarray(value, dtype=float)
+    if arr.shape != (3,):
+        raise ValueError(f"{name} has shape {arr.shape}; expected (3,)")
+    check_finite(arr, name)
+    return arr
+
+
+def as_rotation(R, name: str = "R", *, atol: float = 1e-6) -> np.ndarray:
+    """A (3, 3) proper rotation matrix (orthonormal within ``atol``, det = +1)."""
+    arr = np.asarray(R, dtype=float)
+    if arr.shape != (3, 3):
+        raise ValueError(f"{name} has shape {arr.shape}; expected (3, 3)")
+    check_finite(arr, name)
+    err = float(np.max(np.abs(arr.T @ arr - np.eye(3))))
+    if err > atol:
+        raise ValueError(f"{name} is not orthonormal: max |RᵀR − I| = {err:.3g} > {atol:g}")
+    det = float(np.linalg.det(arr))
+    if det < 0:
+        raise ValueError(f"{name} has det {det:.6f}: a reflection, not a rotation "
+                         "(a flipped axis, e.g. OpenCV's y-down image frame?)")
+    return arr

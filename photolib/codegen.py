@@ -1,0 +1,117 @@
+"""Generate NumPy code from the SymPy derivations in :mod:`photolib.derive`.
+
+Each derive module listed in ``photolib.derive.CODEGEN_MODULES`` exposes ``CODEGEN``, a tuple
+of :class:`photolib.derive._spec.GeneratedFunction`. This module prints each one as a plain
+NumPy function with common-subexpression elimination into ``photolib/_generated/<module>.py``.
+
+The output is deterministic: CSE with canonical ordering and numbered temporaries, SymPy's
+NumPy printer, arguments in the order the derivation states, and a header carrying the
+SHA-256 of the derive source, so the sync test (``tests/test_codegen.py``) can regenerate
+into a temporary folder and diff. ``python -m photolib codegen`` (or ``make regen``, or
+``pytest --update-generated``) rewrites the committed files.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib
+import sys
+import textwrap
+from pathlib import Path
+
+import sympy as sp
+from sympy.printing.numpy import NumPyPrinter
+
+from photolib.derive import CODEGEN_MODULES
+
+PACKAGE_DIR = Path(__file__).resolve().parent
+GENERATED_DIR = PACKAGE_DIR / "_generated"
+DERIVE_DIR = PACKAGE_DIR / "derive"
+
+
+class _Printer(NumPyPrinter):
+    """NumPy printer that writes ``np.`` instead of ``numpy.`` and plain float literals."""
+
+    def __init__(self):
+        super().__init__({"fully_qualified_modules": True, "inline": True,
+                          "allow_unknown_functions": False})
+
+    def _module_format(self, fqn, register=True):  # noqa: D401 - printer hook
+        return super()._module_format(fqn, register).replace("numpy.", "np.")
+
+
+def source_hash(module_name: str) -> str:
+    """SHA-256 of the derive module's source and of the shared spec it imports."""
+    h = hashlib.sha256()
+    for path in (DERIVE_DIR / f"{module_name}.py", DERIVE_DIR / "_spec.py"):
+        h.update(path.read_bytes().replace(b"\r\n", b"\n"))
+    return h.hexdigest()
+
+
+def render_function(fn) -> str:
+    """Python source of one generated function (CSE, NumPy printer)."""
+    printer = _Printer()
+    exprs = fn.exprs
+    temps = sp.numbered_symbols("_t")
+    replacements, reduced = sp.cse(exprs, symbols=temps, order="canonical")
+    args = ", ".join(str(a) for a in fn.args)
+    lines = [f"def {fn.name}({args}):"]
+    doc = textwrap.fill(fn.doc, width=88, initial_indent="    ", subsequent_indent="    ")
+    outs = ", ".join(fn.output_names)
+    lines.append('    """' + doc.strip())
+    lines.append("")
+    lines.append(f"    Returns ({outs}); all arguments broadcast like NumPy arrays.")
+    lines.append('    """')
+    for sym, expr in replacements:
+        lines.append(f"    {sym} = {printer.doprint(expr)}")
+    for name, expr in zip(fn.output_names, reduced):
+        code = printer.doprint(expr)
+        if not expr.free_symbols:  # a constant output still has to broadcast
+            code = f"np.zeros(np.broadcast({args}).shape) + {code}" if fn.args else code
+        lines.append(f"    {name} = {code}")
+    lines.append(f"    return {outs}" + ("," if len(fn.output_names) == 1 else ""))
+    return "\n".join(lines) + "\n"
+
+
+def render_module(module_name: str) -> str:
+    """Complete source of ``photolib/_generated/<module_name>.py``."""
+    mod = importlib.import_module(f"photolib.derive.{module_name}")
+    header = (
+        f"# generated from photolib/derive/{module_name}.py, do not edit\n"
+        f"# source sha256: {source_hash(module_name)}\n"
+        f"# regenerate with: python -m photolib codegen   (SymPy {sp.__version__.split('.')[0]}."
+        f"{sp.__version__.split('.')[1]})\n"
+        f'"""NumPy code generated from :mod:`photolib.derive.{module_name}`."""\n\n'
+        "import numpy as np\n\n"
+        f"__all__ = {sorted(fn.name for fn in mod.CODEGEN)!r}\n"
+    )
+    body = "\n\n".join(render_function(fn) for fn in mod.CODEGEN)
+    return header + "\n\n" + body
+
+
+def generate(outdir: Path | str = GENERATED_DIR) -> list[Path]:
+    """Write every generated module (and ``__init__.py``) into ``outdir``; return the paths."""
+    outdir = Path(outdir)
+    outdir.mkdir(parents=True, exist_ok=True)
+    written = []
+    init = outdir / "__init__.py"
+    init.write_text('"""Generated NumPy code; see photolib/codegen.py. Do not edit."""\n')
+    written.append(init)
+    for name in CODEGEN_MODULES:
+        path = outdir / f"{name}.py"
+        path.write_text(render_module(name))
+        written.append(path)
+    return written
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of ``python -m photolib codegen [OUTDIR]``."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    outdir = Path(argv[0]) if argv else GENERATED_DIR
+    for path in generate(outdir):
+        print(f"wrote {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
