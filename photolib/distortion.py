@@ -27,6 +27,9 @@ from photolib._validate import as_points, as_scalar
 
 __all__ = ["Distortion", "ConvergenceReport", "DistortionDivergenceError", "OpenCVFit"]
 
+#: points per block in :meth:`Distortion.distort`
+_BLOCK = 4096
+
 _NAMES = ("A1", "A2", "A3", "r0", "B1", "B2", "C1", "C2")
 
 
@@ -252,57 +255,76 @@ class Distortion:
         tol = as_scalar(tol, "tol", positive=True)
         if int(max_iter) < 1:
             raise ValueError(f"max_iter must be >= 1, got {max_iter!r}")
-        x = pts.copy()
         if self.is_zero:
             report = ConvergenceReport(method, True, 0, 0.0, ())
-            out = x[0] if single else x
+            out = pts[0].copy() if single else pts.copy()
             return (out, report) if return_report else out
         args = self._args()
-        active = np.arange(len(x))
-        history = []
-        steps = np.zeros(len(x))
-        it = 0
-        for it in range(1, int(max_iter) + 1):
-            xa, ya = x[active, 0], x[active, 1]
-            ix, iy = pts[active, 0], pts[active, 1]
-            if method == "newton":
-                dx, dy, a, b, c, d = distortion_delta_and_jacobian(xa, ya, *args)
-                fx, fy = xa - dx - ix, ya - dy - iy
-                j11, j12, j21, j22 = 1.0 - a, -b, -c, 1.0 - d
-                det = j11 * j22 - j12 * j21
-                with np.errstate(divide="ignore", invalid="ignore"):
-                    sx = (j22 * fx - j12 * fy) / det
-                    sy = (j11 * fy - j21 * fx) / det
-                nx, ny = xa - sx, ya - sy
+        n = len(pts)
+        out = np.empty_like(pts)
+        steps = np.zeros(n)
+        history = np.zeros(int(max_iter))
+        iterations = 0
+        # blocks of contiguous x and y keep every temporary in the CPU cache; all points of a
+        # block iterate together (Newton converges quadratically, so they finish together)
+        for s in range(0, n, _BLOCK):
+            ix = np.ascontiguousarray(pts[s:s + _BLOCK, 0])
+            iy = np.ascontiguousarray(pts[s:s + _BLOCK, 1])
+            if method == "newton":  # start from one fixed-point step: x ≈ x_ideal + Δ(x_ideal)
+                dx, dy = distortion_delta(ix, iy, *args)
+                xa, ya = ix + dx, iy + dy
             else:
-                dx, dy = distortion_delta(xa, ya, *args)
-                nx, ny = ix + dx, iy + dy
-                sx, sy = nx - xa, ny - ya
-            step = np.hypot(sx, sy)
-            x[active, 0], x[active, 1] = nx, ny
-            steps[active] = step
-            bad = ~np.isfinite(step) | (np.abs(nx) > 1e12) | (np.abs(ny) > 1e12)
-            history.append(float(np.max(np.where(np.isfinite(step), step, np.inf))))
-            if np.any(bad):
-                i = int(active[np.argmax(bad)])
-                rep = ConvergenceReport(method, False, it, float("inf"), tuple(history))
-                raise DistortionDivergenceError(
-                    f"{method} iteration diverged at point {i} (ideal {pts[i].tolist()}) after "
-                    f"{it} iterations; the distortion is not invertible there "
-                    "(outside the calibrated format?)", rep, i)
-            active = active[step >= tol]
-            if active.size == 0:
-                break
-        report = ConvergenceReport(method, active.size == 0, it, float(np.max(steps)), tuple(history))
-        if active.size:
-            i = int(active[0])
+                xa, ya = ix.copy(), iy.copy()
+            for it in range(1, int(max_iter) + 1):
+                if method == "newton":
+                    dx, dy, a, b, c, d = distortion_delta_and_jacobian(xa, ya, *args)
+                    fx = xa - dx - ix
+                    fy = ya - dy - iy
+                    j11, j22 = 1.0 - a, 1.0 - d
+                    det = j11 * j22 - b * c
+                    with np.errstate(divide="ignore", invalid="ignore"):
+                        sx = (j22 * fx + b * fy) / det
+                        sy = (j11 * fy + c * fx) / det
+                    xa = xa - sx
+                    ya = ya - sy
+                else:
+                    dx, dy = distortion_delta(xa, ya, *args)
+                    sx, sy = ix + dx - xa, iy + dy - ya
+                    xa = xa + sx
+                    ya = ya + sy
+                step2 = sx * sx + sy * sy
+                smax = float(np.sqrt(np.max(step2)))
+                history[it - 1] = max(history[it - 1], smax)
+                if not np.isfinite(smax) or smax > 1e12:
+                    step = np.sqrt(step2)
+                    bad = ~np.isfinite(step) | (step > 1e12)
+                    i = s + int(np.argmax(bad))
+                    rep = ConvergenceReport(method, False, it, float("inf"),
+                                            tuple(history[:it].tolist()))
+                    raise DistortionDivergenceError(
+                        f"{method} iteration diverged at point {i} (ideal {pts[i].tolist()}) after "
+                        f"{it} iterations; the distortion is not invertible there "
+                        "(outside the calibrated format?)", rep, i)
+                if smax < tol:
+                    break
+            iterations = max(iterations, it)
+            out[s:s + _BLOCK, 0] = xa
+            out[s:s + _BLOCK, 1] = ya
+            steps[s:s + _BLOCK] = np.sqrt(step2)
+        history = tuple(history[:iterations].tolist())
+        x = out
+        report = ConvergenceReport(method, bool(np.all(steps < tol)), iterations,
+                                   float(np.max(steps)), history)
+        if not report.converged:
+            i = int(np.argmax(steps >= tol))
             raise DistortionDivergenceError(
-                f"{method} iteration did not converge for {active.size} of {len(x)} points within "
-                f"max_iter={max_iter} (first: point {i}, ideal {pts[i].tolist()}, last step "
+                f"{method} iteration did not converge for {int(np.sum(steps >= tol))} of {n} points "
+                f"within max_iter={max_iter} (first: point {i}, ideal {pts[i].tolist()}, last step "
                 f"{steps[i]:.3g} > tol={tol:g})", report, i)
         # a root beyond the fold of x − Δ(x) solves the equation but is not
         # the measured point: it lies on the mirrored sheet, e.g. on the other side of the centre
         _, _, a, b, c, d = distortion_delta_and_jacobian(x[:, 0], x[:, 1], *args)
+        it = iterations
         # valid sheet (connected to the centre, where I − ∂Δ/∂x = I): both eigenvalues of
         # I − ∂Δ/∂x keep a positive real part ⇔ det > 0 and trace > 0
         det = (1.0 - a) * (1.0 - d) - b * c

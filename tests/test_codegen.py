@@ -59,7 +59,7 @@ def test_generated_function_equals_lambdify(module, fn):
     """Each generated function against ``sympy.lambdify(..., cse=True)`` at seeded random inputs."""
     gen = importlib.import_module(f"photolib._generated.{module}")
     generated = getattr(gen, fn.name)
-    reference = sp.lambdify(fn.args, fn.exprs, modules="numpy", cse=True)
+    reference = sp.lambdify(fn.args, fn.full_exprs, modules="numpy", cse=True)
     rng = np.random.default_rng(20261122)
     n = 64
     args = []
@@ -76,7 +76,7 @@ def test_generated_function_equals_lambdify(module, fn):
     assert len(got) == len(fn.outputs)
     for name, g, w in zip(fn.output_names, got, want):
         g, w = np.broadcast_to(g, (n,)), np.broadcast_to(np.asarray(w, float), (n,))
-        np.testing.assert_allclose(g, w, rtol=1e-12, atol=1e-12, err_msg=f"{fn.name}: {name}")
+        np.testing.assert_allclose(g, w, rtol=1e-11, atol=1e-12, err_msg=f"{fn.name}: {name}")
 
 
 def test_import_photolib_is_numpy_only_and_fast():

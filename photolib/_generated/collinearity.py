@@ -1,5 +1,5 @@
 # generated from photolib/derive/collinearity.py, do not edit
-# source sha256: a1c1e31bb85a33f20ef506dabf6034a44f18130f478ee9b2609e63f70d1bc69e
+# source sha256: 392208bc293528b62de67158dda5c9d99fd4a85102940464782aa4ba08205feb
 # regenerate with: python -m photolib codegen   (SymPy 1.14)
 """NumPy code generated from :mod:`photolib.derive.collinearity`."""
 
@@ -56,7 +56,7 @@ def collinearity_jacobian_opk(X, Y, Z, X0, Y0, Z0, omega, phi, kappa, c):
     _t21 = _t0*_t6
     _t22 = -_t2*_t21 + _t20
     _t23 = _t15 + _t19*_t8 + _t22*_t5
-    _t24 = c/_t11**2
+    _t24 = c/(_t11*_t11)
     _t25 = _t2*_t24
     _t26 = _t0*_t13 - _t23*_t25
     _t27 = _t17*_t2 + _t18

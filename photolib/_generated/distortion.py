@@ -1,5 +1,5 @@
 # generated from photolib/derive/distortion.py, do not edit
-# source sha256: 0f3e49f454849d800e2a9c30103cbe429b29556acaf5d458187442d894a4adbf
+# source sha256: 490456a858d2f26ccc32b6aec817e189c77646bf7f883100db9ef77611053bea
 # regenerate with: python -m photolib codegen   (SymPy 1.14)
 """NumPy code generated from :mod:`photolib.derive.distortion`."""
 
@@ -14,10 +14,10 @@ def distortion_delta(x, y, A1, A2, A3, r0, B1, B2, C1, C2):
     Returns (dx, dy); all arguments broadcast like NumPy arrays.
     """
     _t0 = 2*x*y
-    _t1 = y**2
-    _t2 = x**2
+    _t1 = (y*y)
+    _t2 = (x*x)
     _t3 = _t1 + _t2
-    _t4 = A1*_t3 - A1*r0**2 + A2*_t3**2 - A2*r0**4 + A3*_t3**3 - A3*r0**6
+    _t4 = A1*_t3 - A1*(r0*r0) + A2*(_t3*_t3) - A2*(r0*r0*r0*r0) + A3*(_t3*_t3*_t3) - A3*r0**6
     dx = B1*(_t1 + 3*_t2) + B2*_t0 + C1*x + C2*y + _t4*x
     dy = B1*_t0 + B2*(3*_t1 + _t2) + _t4*y
     return dx, dy
@@ -25,36 +25,26 @@ def distortion_delta(x, y, A1, A2, A3, r0, B1, B2, C1, C2):
 
 def distortion_delta_and_jacobian(x, y, A1, A2, A3, r0, B1, B2, C1, C2):
     """Δx', Δy' and their derivatives with respect to x and y (dimensionless), for Newton's
-    iteration.
+    iteration; r² = x² + y², q(r²) and q'(r²) in Horner form.
 
     Returns (dx, dy, ddx_dx, ddx_dy, ddy_dx, ddy_dy); all arguments broadcast like NumPy arrays.
     """
-    _t0 = 2*y
-    _t1 = B2*_t0
-    _t2 = y**2
-    _t3 = x**2
-    _t4 = A1*r0**2
-    _t5 = A2*r0**4
-    _t6 = A3*r0**6
-    _t7 = _t2 + _t3
-    _t8 = _t7**2
-    _t9 = _t7**3
-    _t10 = A1*_t7 + A2*_t8 + A3*_t9 - _t4 - _t5 - _t6
-    _t11 = B1*x
-    _t12 = 2*A1
-    _t13 = 4*A2*_t7
-    _t14 = A3*_t8
-    _t15 = _t12*x + _t13*x + 6*_t14*x
-    _t16 = A1*_t7 + A2*_t8 + A3*_t9 - _t4 - _t5 - _t6
-    _t17 = 6*y
-    _t18 = _t12*y + _t13*y + _t14*_t17
-    _t19 = B1*_t0 + 2*B2*x
-    dx = B1*(_t2 + 3*_t3) + C1*x + C2*y + _t1*x + _t10*x
-    dy = B2*(3*_t2 + _t3) + _t0*_t11 + _t10*y
-    ddx_dx = C1 + _t1 + 6*_t11 + _t15*x + _t16
-    ddx_dy = C2 + _t18*x + _t19
-    ddy_dx = _t15*y + _t19
-    ddy_dy = B2*_t17 + 2*_t11 + _t16 + _t18*y
+    _r2 = (x*x) + (y*y)
+    _q = -A1*(r0*r0) - A2*(r0*r0*r0*r0) - A3*r0**6 + _r2*(A1 + _r2*(A2 + A3*_r2))
+    _dq = A1 + _r2*(2*A2 + 3*A3*_r2)
+    _t0 = (y*y)
+    _t1 = 2*y
+    _t2 = B2*_t1
+    _t3 = (x*x)
+    _t4 = B1*x
+    _t5 = 2*_dq
+    _t6 = B1*_t1 + 2*B2*x + _dq*_t1*x
+    dx = B1*_t0 + 3*B1*_t3 + C1*x + C2*y + _q*x + _t2*x
+    dy = 3*B2*_t0 + B2*_t3 + _q*y + _t1*_t4
+    ddx_dx = C1 + _q + _t2 + _t3*_t5 + 6*_t4
+    ddx_dy = C2 + _t6
+    ddy_dx = _t6
+    ddy_dy = 6*B2*y + _q + _t0*_t5 + 2*_t4
     return dx, dy, ddx_dx, ddx_dy, ddy_dx, ddy_dy
 
 
@@ -63,12 +53,12 @@ def distortion_jacobian_params(x, y, A1, A2, A3, r0, B1, B2, C1, C2):
 
     Returns (dx_dA1, dy_dA1, dx_dA2, dy_dA2, dx_dA3, dy_dA3, dx_dB1, dy_dB1, dx_dB2, dy_dB2, dx_dC1, dy_dC1, dx_dC2, dy_dC2); all arguments broadcast like NumPy arrays.
     """
-    _t0 = x**2
-    _t1 = y**2
+    _t0 = (x*x)
+    _t1 = (y*y)
     _t2 = _t0 + _t1
-    _t3 = _t2 - r0**2
-    _t4 = _t2**2 - r0**4
-    _t5 = _t2**3 - r0**6
+    _t3 = _t2 - (r0*r0)
+    _t4 = (_t2*_t2) - (r0*r0*r0*r0)
+    _t5 = (_t2*_t2*_t2) - r0**6
     _t6 = 2*x*y
     dx_dA1 = _t3*x
     dy_dA1 = _t3*y

@@ -1,5 +1,5 @@
 # generated from photolib/derive/rotation.py, do not edit
-# source sha256: 58eb538e3055b666509884cfc0db86212848a2c8f0f3cb50b838f0cd7e2bca6d
+# source sha256: de2dd7b03327871148d04b8001073f75f5c936cfd9c43cb6fa6fc0920faba352
 # regenerate with: python -m photolib codegen   (SymPy 1.14)
 """NumPy code generated from :mod:`photolib.derive.rotation`."""
 

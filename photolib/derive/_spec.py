@@ -21,16 +21,29 @@ class GeneratedFunction:
         Named outputs; the generated function returns them as a tuple in this order.
     doc : str
         One-paragraph docstring (units and meaning).
+    intermediates : tuple of (sympy.Symbol, sympy.Expr)
+        Named quantities of the derivation (e.g. r², a polynomial in Horner form), computed in
+        this order before the outputs; the outputs may use their symbols. :meth:`full_exprs`
+        substitutes them back, which is what the lambdify test compares against.
     """
 
     name: str
     args: tuple
     outputs: tuple
     doc: str
+    intermediates: tuple = ()
 
     @property
     def exprs(self) -> list[sp.Expr]:
         return [sp.sympify(e) for _, e in self.outputs]
+
+    @property
+    def full_exprs(self) -> list[sp.Expr]:
+        """Outputs with every intermediate symbol replaced by its expression."""
+        out = self.exprs
+        for sym, expr in reversed(self.intermediates):
+            out = [e.xreplace({sym: expr}) for e in out]
+        return out
 
     @property
     def output_names(self) -> list[str]:

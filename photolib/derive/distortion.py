@@ -96,6 +96,46 @@ def jacobian_params():
     return d.jacobian([_P[n] for n in PARAMETERS])
 
 
+def radial_factor(r2):
+    """``q(r²) = Δr'/r`` as a polynomial in r², so that ``Δx_rad = x·q``, ``Δy_rad = y·q``."""
+    q = sp.expand(radial_profile(rr) / rr)
+    return sp.expand(q.subs(rr, sp.sqrt(r2)))
+
+
+#: named quantities of the structured (chain-rule) form used for code generation
+r2_s, q_s, dq_s = sp.symbols("_r2 _q _dq", real=True)
+
+
+def structured():
+    """Δ and ∂Δ/∂(x, y) written with ``r² = x² + y²``, ``q(r²)`` and ``q'(r²)``.
+
+    Derived, not typed: Δ is written with an undefined function ``Q(x² + y²)`` in place of the
+    radial factor, differentiated by SymPy (chain rule), and ``Q``, ``Q'`` and ``x² + y²`` are
+    then named. The code generator evaluates q and q' in Horner form, which saves half the
+    array operations of the expanded polynomial. Returns ``(intermediates, outputs)``.
+    """
+    Q = sp.Function("Q")
+    r2 = x**2 + y**2
+    tx, ty = delta_tangential()
+    ax, ay = delta_affine()
+    d = sp.Matrix([x * Q(r2) + tx + ax, y * Q(r2) + ty + ay])
+    J = d.jacobian([x, y])
+
+    def name(e):
+        e = e.doit()
+        e = e.replace(lambda z: isinstance(z, sp.Subs), lambda z: dq_s)
+        e = e.replace(lambda z: isinstance(z, sp.Derivative), lambda z: dq_s)
+        e = e.xreplace({Q(r2): q_s})
+        return sp.expand(e).subs(r2, r2_s)
+
+    q = radial_factor(r2_s)
+    inter = ((r2_s, x * x + y * y), (q_s, sp.horner(q, r2_s)),
+             (dq_s, sp.horner(sp.diff(q, r2_s), r2_s)))
+    outs = (("dx", name(d[0])), ("dy", name(d[1])), ("ddx_dx", name(J[0, 0])),
+            ("ddx_dy", name(J[0, 1])), ("ddy_dx", name(J[1, 0])), ("ddy_dy", name(J[1, 1])))
+    return inter, outs
+
+
 _ARGS = (x, y, A1, A2, A3, r0, B1, B2, C1, C2)
 
 CODEGEN = (
@@ -108,11 +148,10 @@ CODEGEN = (
     GeneratedFunction(
         name="distortion_delta_and_jacobian",
         args=_ARGS,
-        outputs=(("dx", delta()[0]), ("dy", delta()[1]),
-                 ("ddx_dx", jacobian_xy()[0, 0]), ("ddx_dy", jacobian_xy()[0, 1]),
-                 ("ddy_dx", jacobian_xy()[1, 0]), ("ddy_dy", jacobian_xy()[1, 1])),
+        intermediates=structured()[0],
+        outputs=structured()[1],
         doc="Δx', Δy' and their derivatives with respect to x and y (dimensionless), "
-            "for Newton's iteration.",
+            "for Newton's iteration; r² = x² + y², q(r²) and q'(r²) in Horner form.",
     ),
     GeneratedFunction(
         name="distortion_jacobian_params",
