@@ -193,6 +193,11 @@ class Distortion:
         Returns
         -------
         ndarray, same shape as ``xy``, mm
+
+        Examples
+        --------
+        >>> Distortion(B1=1e-5).delta([[10.0, 0.0], [0.0, 10.0]]).round(9).tolist()
+        [[0.003, 0.0], [0.001, 0.0]]
         """
         pts, single = as_points(xy, 2, "xy")
         dx, dy = distortion_delta(pts[:, 0], pts[:, 1], *self._args())
@@ -210,14 +215,23 @@ class Distortion:
         return out[0] if single else out
 
     def jacobian_xy(self, xy) -> np.ndarray:
-        """``∂(Δx', Δy')/∂(x, y)``, shape (N, 2, 2) or (2, 2), dimensionless."""
+        """``∂(Δx', Δy')/∂(x, y)``, shape (N, 2, 2) or (2, 2), dimensionless.
+
+        >>> Distortion(A1=1e-4).jacobian_xy([10.0, 0.0]).round(9).tolist()   # ∂Δx/∂x = 3·A1·x²
+        [[0.03, 0.0], [0.0, 0.01]]
+        """
         pts, single = as_points(xy, 2, "xy")
         _, _, a, b, c, d = distortion_delta_and_jacobian(pts[:, 0], pts[:, 1], *self._args())
         J = np.stack(np.broadcast_arrays(a, b, c, d), axis=-1).reshape(-1, 2, 2)
         return J[0] if single else J
 
     def jacobian_params(self, xy) -> np.ndarray:
-        """``∂(Δx', Δy')/∂(A1, A2, A3, B1, B2, C1, C2)``, shape (N, 2, 7), for self-calibration."""
+        """``∂(Δx', Δy')/∂(A1, A2, A3, B1, B2, C1, C2)``, shape (N, 2, 7) or (2, 7), for
+        self-calibration (mm per unit of each parameter; r0 held fixed).
+
+        >>> Distortion().jacobian_params([2.0, 0.0])[0].round(9).tolist()   # ∂Δx/∂(A1 … C2)
+        [8.0, 32.0, 128.0, 12.0, 0.0, 2.0, 0.0]
+        """
         pts, single = as_points(xy, 2, "xy")
         cols = distortion_jacobian_params(pts[:, 0], pts[:, 1], *self._args())
         J = np.stack(np.broadcast_arrays(*cols), axis=-1).reshape(-1, 7, 2).transpose(0, 2, 1)
@@ -247,7 +261,17 @@ class Distortion:
         ------
         DistortionDivergenceError
             If any point has not converged after ``max_iter`` steps or the iteration
-            blows up (NaN, singular ``I − ∂Δ/∂x``); the message names the first such point.
+            blows up (NaN, singular ``I − ∂Δ/∂x``), or if Newton lands on a root beyond the fold
+            of ``x − Δ(x)``; the message names the first such point.
+
+        Examples
+        --------
+        >>> d = Distortion(A1=-5e-5, B2=2e-6)
+        >>> m, report = d.distort([[15.0, 10.0]], return_report=True)
+        >>> report.converged, report.iterations <= 6
+        (True, True)
+        >>> bool(abs(d.correct(m) - [[15.0, 10.0]]).max() < 1e-9)
+        True
         """
         pts, single = as_points(xy, 2, "xy")
         if method not in ("newton", "fixed-point"):
@@ -347,6 +371,9 @@ class Distortion:
         Exact as a map of formulas, but OpenCV evaluates at the ideal point and the course at the
         measured one, so as distortions they differ by the second-order term; this naive
         conversion is what :meth:`to_opencv` improves on. r0, C1, C2 have no OpenCV term.
+
+        >>> [round(v, 9) + 0.0 for v in Distortion(A1=1e-4, B1=1e-5).opencv_form(c=10.0)]
+        [0.01, 0.0, 0.0, 0.0001, 0.0]
         """
         c = as_scalar(c, "c", positive=True)
         p = self._p
@@ -360,6 +387,10 @@ class Distortion:
         (mm) are distorted with :meth:`distort`; OpenCV's model, linear in its coefficients for
         given ideal points, is fitted by least squares in normalised coordinates
         ``(x/c, −y/c)``. Residuals are reported in µm (``unit_to_um`` µm per image unit).
+
+        >>> fit = Distortion(A1=-1e-4).to_opencv(c=24.0, half_width=18.0, half_height=12.0)
+        >>> fit.exact, fit.max_um < 5.0
+        (False, True)
         """
         c = as_scalar(c, "c", positive=True)
         u = _grid(half_width, half_height, n)
@@ -380,6 +411,10 @@ class Distortion:
         ``m − u = Δ(m)`` is linear in A1, A2, A3, B1, B2 (r0 held fixed) and is solved by
         least squares. Returns ``(Distortion, OpenCVFit)``; the fit's ``coefficients`` are the
         fitted ``(A1, A2, A3, B1, B2)``.
+
+        >>> d, fit = Distortion.from_opencv((-0.05, 0, 0, 0, 0), 24.0, 18.0, 12.0)
+        >>> d.params['A1'] < 0, fit.max_um < 5.0
+        (True, True)
         """
         c = as_scalar(c, "c", positive=True)
         k = np.asarray(coefficients, dtype=float).reshape(-1)

@@ -1,5 +1,5 @@
 # generated from photolib/derive/rotation.py, do not edit
-# source sha256: de2dd7b03327871148d04b8001073f75f5c936cfd9c43cb6fa6fc0920faba352
+# source sha256: af479d432d1d8b2138a4adc68b276e17ffbba3b3c955bf51a0575c95ef6118ed
 # regenerate with: python -m photolib codegen   (SymPy 1.14)
 """NumPy code generated from :mod:`photolib.derive.rotation`."""
 

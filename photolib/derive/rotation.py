@@ -28,9 +28,10 @@ def skew(v) -> sp.Matrix:
 def _exp_rotation(axis: int, t) -> sp.Matrix:
     e = sp.zeros(3, 1)
     e[axis] = 1
-    # exp of a skew matrix; rewrite the complex exponentials as cos/sin
+    # exp of a skew matrix (SymPy's Jordan-form exponential); any complex exponentials are
+    # rewritten as cos/sin and expanded -- bounded work, no simplify
     m = (skew(e) * t).exp()
-    return m.applyfunc(lambda z: sp.simplify(z.rewrite(sp.cos)))
+    return m.applyfunc(lambda z: sp.expand_complex(z.rewrite(sp.cos)))
 
 
 def R_omega(t=omega) -> sp.Matrix:
