@@ -139,7 +139,7 @@ def test_errata_example_4_3():
     L = [0.025599, 0.000789, 0.000914, 10.341817, -0.000347, 0.025008, -0.008166, 4.986816,
          0.000082, -0.000239, -0.000551]
     d = dlt_decompose(L)
-    assert np.allclose(d.X0, [-471.12, 318.14, 1604.96], rtol=1.5e-3)
+    assert np.allclose(d.X0, [-471.12, 318.14, 1604.96], rtol=0, atol=2.0)  # mm, of ~1700 mm
     assert np.degrees([d.omega, d.phi, d.kappa]) == pytest.approx([-23.405, -7.767, 0.031], abs=0.05)
     assert (d.c_x, d.c_y) == pytest.approx((42.0688, 43.1747), rel=1e-3)
     assert d.x0 * -3.7708 < 0 and d.y0 * 3.8404 < 0
