@@ -1,0 +1,109 @@
+"""Notebook helpers of the course: setup, plotting style, figures and widgets.
+
+Every chapter notebook starts with::
+
+    import numpy as np
+    import photolib as pl
+    from photolib import nb
+    nb.setup()
+
+:func:`setup` checks the installation and sets a common plotting style; the figures and the
+widgets of each chapter live in the submodules (:mod:`photolib.nb.rotations`,
+:mod:`photolib.nb.distortion`, :mod:`photolib.nb.projection`), so that a notebook shows the
+idea and not the plumbing. The widgets' callbacks are plain functions, tested in
+``tests/test_nb.py`` and timed in ``benchmarks/bench_widgets.py``.
+"""
+
+from __future__ import annotations
+
+import importlib
+from importlib import metadata
+
+from photolib.nb.text import matrix_html, rounded, show
+
+__all__ = [
+    "REQUIREMENTS",
+    "check_environment",
+    "distortion",
+    "matrix_html",
+    "projection",
+    "rotations",
+    "rounded",
+    "setup",
+    "show",
+]
+
+#: distribution → (minimum version, the module to import), for :func:`check_environment`
+REQUIREMENTS = {
+    "numpy": ((2, 1), "numpy"),
+    "sympy": ((1, 14), "sympy"),
+    "matplotlib": ((3, 9), "matplotlib"),
+    "ipywidgets": ((8, 1), "ipywidgets"),
+}
+
+
+def _version_tuple(text: str) -> tuple:
+    parts = []
+    for piece in text.split(".")[:2]:
+        digits = "".join(ch for ch in piece if ch.isdigit())
+        parts.append(int(digits) if digits else 0)
+    return tuple(parts)
+
+
+def check_environment() -> list[str]:
+    """Problems with the installation, as sentences; an empty list when all is well.
+
+    >>> check_environment()
+    []
+    """
+    problems = []
+    for dist, (minimum, module) in REQUIREMENTS.items():
+        try:
+            version = metadata.version(dist)
+            importlib.import_module(module)
+        except (metadata.PackageNotFoundError, ImportError):
+            problems.append(f"{dist} is missing: pip install -e '.[course]'")
+            continue
+        if _version_tuple(version) < minimum:
+            need = ".".join(map(str, minimum))
+            problems.append(f"{dist} {version} is too old: the course needs {need} or newer")
+    return problems
+
+
+STYLE = {
+    "figure.figsize": (6.4, 3.6),
+    "figure.dpi": 80,
+    "axes.grid": True,
+    "grid.alpha": 0.3,
+    "axes.spines.top": False,
+    "axes.spines.right": False,
+    "font.size": 10,
+    "image.cmap": "viridis",
+    "savefig.bbox": "tight",
+}
+
+
+def setup() -> None:
+    """Check the installation and set the course's plotting style and NumPy print options.
+
+    Prints one line: that the environment is ready, or what is wrong and how to fix it.
+    """
+    problems = check_environment()
+    if problems:
+        print("photolib course environment: PROBLEMS")
+        for p in problems:
+            print("  -", p)
+        return
+    import matplotlib.pyplot as plt  # loads the inline backend's defaults first
+    import numpy as np
+
+    plt.rcParams.update(STYLE)
+    np.set_printoptions(precision=6, suppress=True)
+    print("photolib course environment: OK")
+
+
+def __getattr__(name):
+    # chapter modules on first use: `nb.rotations` without importing all chapters
+    if name in ("rotations", "distortion", "projection", "live", "draw"):
+        return importlib.import_module(f"photolib.nb.{name}")
+    raise AttributeError(f"module 'photolib.nb' has no attribute {name!r}")

@@ -1,0 +1,164 @@
+"""Notebook helpers: the widgets' callbacks, called directly, and the live-figure plumbing."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import photolib as pl
+from photolib import nb
+from photolib.nb import distortion as nd
+from photolib.nb import projection as npj
+from photolib.nb import rotations as nr
+from photolib.nb.draw import frustum_segments, lines_xyz
+
+
+def test_environment_is_complete():
+    assert nb.check_environment() == []
+
+
+def test_version_parsing_rejects_old_versions(monkeypatch):
+    monkeypatch.setitem(nb.REQUIREMENTS, "numpy", ((99, 0), "numpy"))
+    problems = nb.check_environment()
+    assert len(problems) == 1 and "numpy" in problems[0] and "too old" in problems[0]
+
+
+def test_rounded_removes_negative_zero():
+    assert str(nb.rounded(np.array([-1e-17]))) == "[0.]"
+
+
+# -- chapter 04 ------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("angles", [(10, 20, 30), (-170, 89, 45), (0, -45, -120)])
+def test_rotation_report_recovers_angles(angles):
+    rep = nr.rotation_report(*angles)
+    assert not rep["gimbal"]
+    np.testing.assert_allclose(rep["recovered"], angles, atol=1e-6)
+    assert rep["orthogonality"] < 1e-12 and abs(rep["det"] - 1) < 1e-12
+
+
+@pytest.mark.parametrize("phi, name, value", [(90, "ω + κ", 50.0), (-90, "ω − κ", -10.0)])
+def test_rotation_report_shows_gimbal_lock(phi, name, value):
+    rep = nr.rotation_report(20, phi, 30)
+    assert rep["gimbal"] and rep["coupled"] == (name, value)
+    assert "Gimbal lock" in rep["html"]
+    # the reported split reproduces R
+    np.testing.assert_allclose(pl.rotation_opk(*np.radians(rep["recovered"])), rep["R"], atol=1e-12)
+
+
+def test_order_report_detects_order_dependence():
+    assert nr.order_report(30, 0, 40)["angle_deg"] == 0.0
+    rep = nr.order_report(30, 40, 20)
+    assert rep["angle_deg"] > 1.0
+    np.testing.assert_allclose(rep["R_pok"], pl.rotation_pok(*np.radians([30, 40, 20])))
+
+
+def _moves(explorer, name, value):
+    before_png, before_html = explorer.live.png, explorer.html.value
+    explorer.controls[name].value = value
+    return explorer.live.png != before_png, explorer.html.value != before_html
+
+
+def test_rotation_explorer_updates_figure_and_text():
+    e = nr.RotationExplorer()
+    assert e.live.output.outputs[0]["data"]["image/png"]
+    assert _moves(e, "phi", 90.0) == (True, True)
+    assert e.report["gimbal"] and "Gimbal lock" in e.html.value
+    assert repr(e.widget) == "[widget: ω-φ-κ rotation explorer]"
+
+
+def test_order_explorer_updates():
+    e = nr.OrderExplorer()
+    assert _moves(e, "kappa", 40.0) == (True, True)
+
+
+def test_explorer_set_redraws_once_with_all_values():
+    e = nr.RotationExplorer()
+    calls = []
+    original = e.draw
+    e.draw = lambda **v: calls.append(v) or original(**v)
+    e.set(omega=5.0, phi=6.0, kappa=7.0)
+    assert calls == [{"omega": 5.0, "phi": 6.0, "kappa": 7.0}]
+
+
+# -- chapter 05 ------------------------------------------------------------------------------
+
+def test_distortion_sliders_scale_to_mm_units():
+    d = nd.distortion_from_sliders(A1=-2.0, B1=1.0, C1=3.0)
+    assert d.params["A1"] == pytest.approx(-2e-5) and d.params["C1"] == pytest.approx(3e-4)
+
+
+def test_distortion_report_grid_is_measured_position():
+    rep = nd.distortion_report(A1=-5.0, exaggeration=1.0)
+    d = rep["distortion"]
+    ideal = np.concatenate(nb.draw.grid_lines(*nd.HALF))
+    measured = np.concatenate(rep["lines"])
+    np.testing.assert_allclose(d.correct(measured), ideal, atol=1e-9)
+    # barrel distortion (A1 < 0) pulls the corners inwards
+    assert np.hypot(*measured[np.argmax(np.hypot(*ideal.T))]) < np.hypot(*nd.HALF)
+
+
+def test_distortion_report_radial_curve_in_micrometres():
+    rep = nd.distortion_report(A1=1.0, r0=10.0)
+    assert float(rep["distortion"].radial_profile(10.0)) == 0.0  # zero crossing at r0
+    np.testing.assert_allclose(rep["dr"], 1e-5 * rep["r"] * (rep["r"] ** 2 - 100) * 1e3)
+
+
+def test_iteration_report_newton_faster_fixed_point_diverges():
+    rep = nd.iteration_report(A1=-2.0, radius=20.0)
+    assert rep["status"] == {"fixed": "converged", "newton": "converged"}
+    assert len(rep["newton"]) < len(rep["fixed"])
+    strong = nd.iteration_report(A1=-50.0, radius=20.0)
+    assert strong["status"]["fixed"].startswith("diverged") and strong["status"]["newton"] == "converged"
+
+
+def test_distortion_explorers_update():
+    e = nd.DistortionExplorer()
+    assert _moves(e, "B1", 5.0) == (True, True)
+    i = nd.IterationExplorer()
+    assert _moves(i, "A1", -60.0) == (True, True)
+
+
+# -- chapter 06 ------------------------------------------------------------------------------
+
+def test_projection_report_matches_project():
+    rep = npj.projection_report(5, -35, 20, 65, 5, 10, 40)
+    _edges, ground = npj.scene_points()
+    R = pl.rotation_opk(*np.radians([65, 5, 10]))
+    np.testing.assert_allclose(rep["ground_xy"], pl.project(ground, [5, -35, 20], R, 40))
+    assert rep["behind"] == 0
+
+
+def test_projection_report_flags_points_behind_camera():
+    rep = npj.projection_report(0, -40, 18, -20, 0, 0, 50)  # looking up and away
+    assert rep["behind"] > 0 and np.isnan(rep["ground_xy"]).any()
+
+
+def test_footprint_report_nadir_and_horizon():
+    rep = npj.footprint_report(0, 0, 0, Z0=700.0, c=35.0)
+    assert rep["area_km2"] == pytest.approx(0.72 * 0.48)
+    assert rep["scale_number"] == pytest.approx(20000.0)
+    tilted = npj.footprint_report(40, 0, 0, Z0=700.0)
+    assert tilted["area_km2"] > rep["area_km2"]
+    gone = npj.footprint_report(80, 0, 0)
+    assert gone["corners"] is None and "does not meet" in gone["html"]
+
+
+def test_projection_explorers_update():
+    e = npj.ProjectionExplorer()
+    assert _moves(e, "kappa", 20.0) == (True, True)
+    f = npj.FootprintExplorer()
+    assert _moves(f, "phi", 20.0) == (True, True)
+
+
+def test_frustum_apex_and_direction():
+    seg = frustum_segments([1, 2, 3], pl.rotation_opk(0.3, 0.2, 0.1), 10.0, 2.0, 1.0, scale=1.0)
+    assert np.allclose(seg[:4, 0], [1, 2, 3])
+    # every corner projects back to a format corner
+    xy = pl.project(seg[:4, 1], [1, 2, 3], pl.rotation_opk(0.3, 0.2, 0.1), 10.0)
+    np.testing.assert_allclose(np.abs(xy), [[2, 1]] * 4)
+
+
+def test_lines_xyz_separates_segments_with_nan():
+    x, _y, _z = lines_xyz(np.arange(12.0).reshape(2, 2, 3))
+    assert np.isnan(x[2]) and x.tolist()[:2] == [0.0, 3.0]
