@@ -43,7 +43,7 @@ lab: $(VENV)/.course-installed
 test: $(VENV)/.test-installed
 	$(BIN)/python -m pytest -q -n $(JOBS) -m "not browser" tests photolib --doctest-modules
 	$(BIN)/python -m pytest -q -n $(JOBS) --dist loadfile --nbval --nbval-sanitize-with tests/nbval_sanitize.cfg \
-		$$(ls notebooks/*.ipynb solutions/*.ipynb 2>/dev/null)
+		notebooks/*.ipynb solutions/*.ipynb
 	@if ls exercises/*.ipynb >/dev/null 2>&1; then \
 		$(BIN)/python -m pytest -q -n $(JOBS) --dist loadfile --nbval-lax exercises/*.ipynb; \
 	else echo "no exercise notebooks yet"; fi
