@@ -1,0 +1,220 @@
+"""Answers as data: encode a value into JSON inside the kernel, decode it in the grader.
+
+:func:`encode_value` runs in the student's kernel (its source is injected by the grader, so
+it does not depend on anything the notebook may have patched) and turns numbers, arrays,
+strings and SymPy expressions into JSON. :func:`decode_value` runs in the grader and accepts
+only a whitelist: SymPy trees are rebuilt from known node names, numbers from strings; there is
+no ``eval`` anywhere.
+
+>>> import sympy as sp
+>>> x = sp.Symbol("x")
+>>> decode_value(encode_value(sp.sin(x) ** 2 + sp.Rational(1, 3)))
+sin(x)**2 + 1/3
+>>> decode_value(encode_value([[1, 2], [3, 4]])).shape
+(2, 2)
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["encode_value", "decode_value", "DecodeError", "NOT_ANSWERED", "MAX_ELEMENTS"]
+
+MAX_ELEMENTS = 100_000
+MAX_NODES = 20_000
+
+
+class _NotAnswered:
+    def __repr__(self):
+        return "NOT_ANSWERED"
+
+
+#: decoded value of an untouched answer (``...``, ``None``, missing variable)
+NOT_ANSWERED = _NotAnswered()
+
+
+class DecodeError(ValueError):
+    """An encoded answer that is malformed or outside the whitelist."""
+
+
+def encode_value(value, _depth=0):
+    """JSON-ready description of ``value`` (runs in the kernel; standard library only)."""
+    import sys
+    sp = sys.modules.get("sympy")
+    if value is None or value is Ellipsis or value is NotImplemented:
+        return {"t": "none"}
+    if isinstance(value, bool):
+        return {"t": "bool", "v": bool(value)}
+    if isinstance(value, str):
+        return {"t": "str", "v": value[:20000]}
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return {"t": "num", "v": repr(float(value))}
+    if sp is not None and isinstance(value, sp.MatrixBase):
+        if value.rows * value.cols > 400:
+            return {"t": "other", "type": "large Matrix"}
+        return {"t": "matrix", "shape": [value.rows, value.cols],
+                "v": [_tree(e, sp, [0]) for e in value]}
+    if sp is not None and isinstance(value, sp.Basic):
+        if value.is_number and not value.free_symbols and isinstance(value, sp.Float):
+            return {"t": "num", "v": repr(float(value))}
+        return {"t": "sympy", "v": _tree(value, sp, [0])}
+    np_ = sys.modules.get("numpy")
+    if np_ is not None and isinstance(value, np_.generic) and value.ndim == 0:
+        try:
+            return {"t": "num", "v": repr(float(value))}
+        except (TypeError, ValueError):
+            return {"t": "other", "type": type(value).__name__}
+    if np_ is not None and isinstance(value, (list, tuple, np_.ndarray)):
+        try:
+            arr = np_.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            arr = None
+        if arr is not None:
+            if arr.size > 100_000:
+                return {"t": "other", "type": f"array of {arr.size} elements"}
+            return {"t": "array", "shape": list(arr.shape), "v": [repr(float(v)) for v in arr.ravel()]}
+    if isinstance(value, (list, tuple)) and _depth < 3 and len(value) <= 1000:
+        return {"t": "list", "v": [encode_value(v, _depth + 1) for v in value]}
+    return {"t": "other", "type": type(value).__name__}
+
+
+def _tree(expr, sp, count):
+    count[0] += 1
+    if count[0] > 20_000:
+        raise ValueError("expression too large")
+    if isinstance(expr, sp.Symbol):
+        return {"s": expr.name}
+    if isinstance(expr, sp.Integer):
+        return {"i": str(int(expr))}
+    if isinstance(expr, sp.Rational):
+        return {"r": [str(expr.p), str(expr.q)]}
+    if isinstance(expr, sp.Float):
+        return {"F": repr(float(expr))}
+    if expr in (sp.pi, sp.E, sp.I):
+        return {"c": str(expr)}
+    return {"f": type(expr).__name__, "a": [_tree(a, sp, count) for a in expr.args]}
+
+
+# ---------------------------------------------------------------------------------- decoding
+_FUNCTIONS = ("Add", "Mul", "Pow", "sin", "cos", "tan", "cot", "sec", "csc", "asin", "acos",
+              "atan", "atan2", "sinh", "cosh", "tanh", "exp", "log", "Abs", "sign")
+
+
+def _number(text: str) -> float:
+    if not isinstance(text, str) or len(text) > 40:
+        raise DecodeError(f"bad number {text!r}")
+    try:
+        return float(text)
+    except ValueError:
+        raise DecodeError(f"bad number {text!r}") from None
+
+
+def _integer(text) -> int:
+    if not isinstance(text, str) or len(text) > 200 or not text.lstrip("-").isdigit():
+        raise DecodeError(f"bad integer {str(text)[:50]!r}")
+    return int(text)
+
+
+def _decode_tree(node, sp, count):
+    count[0] += 1
+    if count[0] > MAX_NODES:
+        raise DecodeError("expression too large")
+    if not isinstance(node, dict) or len(node) not in (1, 2):
+        raise DecodeError(f"bad expression node {str(node)[:80]!r}")
+    if "s" in node:
+        name = node["s"]
+        if not isinstance(name, str) or not name.isidentifier() or name.startswith("_"):
+            raise DecodeError(f"bad symbol name {str(name)[:50]!r}")
+        return sp.Symbol(name)
+    if "i" in node:
+        return sp.Integer(_integer(node["i"]))
+    if "r" in node:
+        p, q = node["r"]
+        if _integer(q) == 0:
+            raise DecodeError("rational with zero denominator")
+        return sp.Rational(_integer(p), _integer(q))
+    if "F" in node:
+        return sp.Float(_number(node["F"]))
+    if "c" in node:
+        consts = {"pi": sp.pi, "E": sp.E, "I": sp.I}
+        if node["c"] not in consts:
+            raise DecodeError(f"unknown constant {str(node['c'])[:30]!r}")
+        return consts[node["c"]]
+    name, args = node.get("f"), node.get("a")
+    if name not in _FUNCTIONS or not isinstance(args, list):
+        raise DecodeError(f"{str(name)[:40]!r} is not an allowed function")
+    args = [_decode_tree(a, sp, count) for a in args]
+    if name == "Pow":
+        if len(args) != 2:
+            raise DecodeError("Pow needs two arguments")
+        if args[1].is_Integer and abs(int(args[1])) > 64:
+            raise DecodeError("integer exponent larger than 64")
+    func = getattr(sp, name)
+    return func(*args)
+
+
+def decode_value(data):
+    """Rebuild an answer from :func:`encode_value`'s output; whitelisted, never ``eval``.
+
+    Returns
+    -------
+    object
+        :data:`NOT_ANSWERED`, bool, float, str, ``numpy.ndarray``, SymPy expression or
+        ``sympy.Matrix``, or a list of these.
+
+    Raises
+    ------
+    DecodeError
+        For anything malformed or not on the whitelist.
+    """
+    if not isinstance(data, dict) or "t" not in data:
+        raise DecodeError(f"bad answer record {str(data)[:80]!r}")
+    kind = data["t"]
+    if kind == "none":
+        return NOT_ANSWERED
+    if kind == "bool":
+        return bool(data.get("v"))
+    if kind == "str":
+        if not isinstance(data.get("v"), str):
+            raise DecodeError("string answer is not a string")
+        return data["v"]
+    if kind == "num":
+        return _number(data.get("v"))
+    if kind == "array":
+        shape, values = data.get("shape"), data.get("v")
+        if (not isinstance(shape, list) or not all(isinstance(n, int) and n >= 0 for n in shape)
+                or not isinstance(values, list) or len(values) > MAX_ELEMENTS
+                or math.prod(shape) != len(values)):
+            raise DecodeError("array answer with inconsistent shape")
+        return np.array([_number(v) for v in values], dtype=float).reshape(shape)
+    if kind in ("sympy", "matrix"):
+        import sympy as sp
+        count = [0]
+        if kind == "sympy":
+            return _decode_tree(data.get("v"), sp, count)
+        shape, values = data.get("shape"), data.get("v")
+        if (not isinstance(shape, list) or len(shape) != 2 or not isinstance(values, list)
+                or not all(isinstance(n, int) and 0 < n <= 20 for n in shape)
+                or shape[0] * shape[1] != len(values)):
+            raise DecodeError("matrix answer with inconsistent shape")
+        return sp.Matrix(shape[0], shape[1], [_decode_tree(v, sp, count) for v in values])
+    if kind == "list":
+        values = data.get("v")
+        if not isinstance(values, list) or len(values) > 1000:
+            raise DecodeError("bad list answer")
+        return [decode_value(v) for v in values]
+    if kind == "other":
+        return Unsupported(str(data.get("type", "?"))[:80])
+    raise DecodeError(f"unknown answer type {str(kind)[:30]!r}")
+
+
+class Unsupported:
+    """An answer of a type the grader cannot judge (its type name only)."""
+
+    def __init__(self, type_name: str):
+        self.type_name = type_name
+
+    def __repr__(self):
+        return f"Unsupported({self.type_name!r})"

@@ -1,0 +1,60 @@
+"""The exercise registry: one module per chapter, ``chNN_topic.py``.
+
+Each chapter module defines ``CHAPTER`` (the notebook's file stem, e.g. ``"04-rotations"``)
+and ``EXERCISES`` (a tuple of :class:`~photolib.grading.spec.Exercise`). Modules are found
+by name, so adding a chapter is adding a file.
+
+>>> [ex.id for ex in chapter("00-grading-demo")][:2]
+['demo.image-scale', 'demo.rotation-2d']
+>>> exercise("demo.image-scale").points
+2
+"""
+
+from __future__ import annotations
+
+import functools
+import importlib
+import pkgutil
+
+__all__ = ["chapters", "chapter", "exercise"]
+
+
+@functools.cache
+def chapters() -> dict:
+    """Chapter name -> tuple of exercises, from every ``ch*`` module of this package."""
+    found = {}
+    seen_ids = {}
+    for info in sorted(pkgutil.iter_modules(__path__), key=lambda i: i.name):
+        if not info.name.startswith("ch"):
+            continue
+        module = importlib.import_module(f"{__name__}.{info.name}")
+        name = getattr(module, "CHAPTER", None)
+        exercises = tuple(getattr(module, "EXERCISES", ()))
+        if not isinstance(name, str) or not exercises:
+            raise ValueError(f"{module.__name__} must define CHAPTER (str) and EXERCISES")
+        if name in found:
+            raise ValueError(f"chapter {name!r} is defined twice (second in {module.__name__})")
+        for ex in exercises:
+            if ex.id in seen_ids:
+                raise ValueError(f"exercise id {ex.id!r} is used in {seen_ids[ex.id]} and {name}")
+            seen_ids[ex.id] = name
+        found[name] = exercises
+    return found
+
+
+def chapter(name: str) -> tuple:
+    """Exercises of chapter ``name`` (a notebook file stem such as ``"00-grading-demo"``)."""
+    all_ = chapters()
+    if name not in all_:
+        raise KeyError(f"no exercises for chapter {name!r}; chapters: {sorted(all_)}")
+    return all_[name]
+
+
+def exercise(exercise_id: str):
+    """The exercise with this id, from any chapter."""
+    for exercises in chapters().values():
+        for ex in exercises:
+            if ex.id == exercise_id:
+                return ex
+    known = sorted(ex.id for exs in chapters().values() for ex in exs)
+    raise KeyError(f"unknown exercise id {exercise_id!r}; known ids: {known}")

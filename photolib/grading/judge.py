@@ -1,0 +1,243 @@
+"""Judging a decoded answer against the reference, by answer kind, in the grader's process.
+
+>>> from photolib.grading.spec import Exercise, Params
+>>> ex = Exercise(id="demo.half", points=2, title="", statement="", kind="number",
+...               answer="half", parameters=lambda rng: {"a": 3.0},
+...               reference=lambda p: p["a"] / 2, rtol=1e-3)
+>>> judge(ex, Params(a=3.0), 1.5).status
+'correct'
+>>> judge(ex, Params(a=3.0), 1500.0).mistake
+'units-mm-m'
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from photolib.grading.encode import NOT_ANSWERED, Unsupported
+from photolib.grading.hints import generic_mistakes
+
+__all__ = ["Judgement", "judge", "compare", "propagated_atol", "FunctionOutputs"]
+
+
+@dataclass(frozen=True)
+class Judgement:
+    """Verdict on one answer.
+
+    ``status`` is ``"correct"``, ``"wrong"`` or ``"not-answered"``; ``mistake`` is the tag of
+    a recognised mistake (or ``None``); ``message`` is what the student reads.
+    """
+
+    exercise_id: str
+    status: str
+    points: float
+    max_points: float
+    message: str
+    mistake: str | None = None
+
+    @property
+    def correct(self) -> bool:
+        return self.status == "correct"
+
+
+@dataclass(frozen=True)
+class FunctionOutputs:
+    """What a student function returned on the test inputs: decoded values, or an error."""
+
+    outputs: tuple
+    error: str | None = None
+
+
+def propagated_atol(reference, params: dict, half_units: dict, floor: float = 1e-12) -> float:
+    """Absolute tolerance from rounding the inputs: ``Σ |∂f/∂p|·Δp`` by central differences.
+
+    Parameters
+    ----------
+    reference : callable
+        ``reference(params)`` returning a number.
+    params : dict
+    half_units : dict
+        Parameter name -> half of its last printed digit (``0.005`` for a value printed to 0.01).
+    floor : float
+        Smallest tolerance returned.
+
+    >>> round(propagated_atol(lambda p: p["h"] / p["c"], {"h": 1000.0, "c": 0.1}, {"h": 0.5}), 6)
+    5.0
+    """
+    total = 0.0
+    for name, du in half_units.items():
+        up, down = dict(params), dict(params)
+        up[name] = params[name] + du
+        down[name] = params[name] - du
+        total += abs(float(reference(up)) - float(reference(down))) / 2.0
+    return max(total, floor)
+
+
+def _numbers_match(answer, expected, rtol, atol) -> bool:
+    a, e = np.asarray(answer, float), np.asarray(expected, float)
+    if a.shape != e.shape or not np.all(np.isfinite(a)):
+        return False
+    return bool(np.all(np.abs(a - e) <= atol + rtol * np.abs(e)))
+
+
+def _expression_verdict(answer, expected) -> str:
+    """Verdict kind of ``answer == expected`` from :mod:`photolib.symcheck` when present."""
+    import sympy as sp
+    try:
+        from photolib.symcheck import equivalent
+    except ImportError:
+        equivalent = None
+    pairs = [(answer, expected)]
+    if isinstance(expected, sp.MatrixBase):
+        if not isinstance(answer, sp.MatrixBase) or answer.shape != expected.shape:
+            return "not-equal"
+        pairs = list(zip(answer, expected))
+    elif isinstance(answer, sp.MatrixBase):
+        return "not-equal"
+    kinds = []
+    for a, e in pairs:
+        if equivalent is not None:
+            kinds.append(equivalent(a, e).kind)
+        else:
+            kinds.append("equal" if sp.simplify(a - e) == 0 else "not-equal")
+    for kind in ("not-equal", "undecided", "equal-under-condition"):
+        if kind in kinds:
+            return kind
+    return "equal"
+
+
+def _parse_formula(exercise, text: str):
+    from photolib.symcheck import UnsafeExpressionError, parse_expression  # noqa: F401
+    return parse_expression(text, symbols=list(exercise.symbols) or None)
+
+
+def compare(exercise, answer, expected, params) -> tuple[bool, str]:
+    """Does ``answer`` equal ``expected`` for this exercise's kind? Returns ``(ok, reason)``."""
+    rtol, atol = exercise.tolerances(params)
+    kind = exercise.kind
+    if kind == "number":
+        if not isinstance(answer, float):
+            return False, f"expected a number, got {_describe(answer)}"
+        return _numbers_match(answer, expected, rtol, atol), ""
+    if kind in ("array", "rotation"):
+        if not isinstance(answer, np.ndarray):
+            return False, f"expected an array, got {_describe(answer)}"
+        expected = np.asarray(expected, float)
+        if answer.shape != expected.shape:
+            return False, f"expected shape {expected.shape}, got {answer.shape}"
+        if not np.all(np.isfinite(answer)):
+            return False, "the array contains NaN or infinity"
+        if kind == "rotation":
+            n = answer.shape[0]
+            err = float(np.max(np.abs(answer.T @ answer - np.eye(n))))
+            if err > 1e-6:
+                return False, f"not a rotation matrix: max |RᵀR − I| = {err:.2g}"
+            if np.linalg.det(answer) < 0:
+                return False, "det R = −1: a reflection, not a rotation"
+        return _numbers_match(answer, expected, rtol, atol), ""
+    if kind == "expression":
+        import sympy as sp
+        if isinstance(answer, str):
+            answer = _parse_formula(exercise, answer)
+        if not isinstance(answer, (sp.Basic, sp.MatrixBase, float)):
+            return False, f"expected a SymPy expression, got {_describe(answer)}"
+        if isinstance(answer, float):
+            answer = sp.Float(answer)
+        verdict = _expression_verdict(answer, expected)
+        if verdict == "undecided":
+            return False, "equivalence could not be decided; the instructor will look at it"
+        return verdict in ("equal", "equal-under-condition"), ""
+    if kind == "function":
+        if not isinstance(answer, FunctionOutputs):
+            return False, "expected a function"
+        if answer.error:
+            return False, answer.error
+        if len(answer.outputs) != len(expected):
+            return False, "the function did not answer every test input"
+        for got, want in zip(answer.outputs, expected):
+            if got is NOT_ANSWERED or isinstance(got, (str, Unsupported, list)):
+                return False, f"the function returned {_describe(got)}"
+            if not _numbers_match(got, want, rtol, atol):
+                return False, ""
+        return True, ""
+    if kind == "choice":
+        if not isinstance(answer, str):
+            return False, f"expected an option key such as 'a', got {_describe(answer)}"
+        return answer.strip().lower().strip("()") == str(expected).lower(), ""
+    raise ValueError(f"unknown answer kind {kind!r}")
+
+
+def _describe(value) -> str:
+    if isinstance(value, Unsupported):
+        return f"a {value.type_name}"
+    if value is NOT_ANSWERED:
+        return "nothing"
+    return f"a {type(value).__name__}"
+
+
+def _expected(exercise, value, params, outputs_of):
+    """For function exercises turn a reference function into its outputs on the cases."""
+    if exercise.kind == "function":
+        return outputs_of(value)
+    return value
+
+
+def judge(exercise, params, answer, outputs_of=None) -> Judgement:
+    """Judge one decoded answer, with a hint when the mistake is recognisable.
+
+    Parameters
+    ----------
+    exercise : Exercise
+    params : Params
+        The student's variant.
+    answer : object
+        Decoded answer (:func:`photolib.grading.encode.decode_value`), or
+        :class:`FunctionOutputs` for function exercises.
+    outputs_of : callable, optional
+        For function exercises: maps a reference or mistaken function to its outputs on the
+        same test inputs the student's function was called with.
+    """
+    def verdict(status, message, points=0.0, mistake=None):
+        return Judgement(exercise.id, status, points, float(exercise.points), message, mistake)
+
+    if answer is NOT_ANSWERED or (isinstance(answer, FunctionOutputs)
+                                  and answer.outputs and all(o is NOT_ANSWERED
+                                                             for o in answer.outputs)):
+        return verdict("not-answered", "not answered yet")
+    expected = _expected(exercise, exercise.reference(params), params, outputs_of)
+    try:
+        ok, reason = compare(exercise, answer, expected, params)
+    except ImportError as exc:
+        return verdict("wrong", f"cannot judge this answer here: {exc}", mistake="unjudged")
+    except Exception as exc:  # noqa: BLE001 - e.g. UnsafeExpressionError from the parser
+        name = type(exc).__name__
+        return verdict("wrong", f"the answer could not be read ({name}: {exc})",
+                       mistake="unreadable" if name != "UnsafeExpressionError" else "unsafe")
+    if ok:
+        return verdict("correct", "correct", float(exercise.points))
+    for mistake in tuple(exercise.mistakes) + generic_mistakes(exercise):
+        try:
+            wrong = mistake.wrong(params)
+            if wrong is None:
+                continue
+            wrong = _expected(exercise, wrong, params, outputs_of)
+            hit, _ = compare(exercise, answer, wrong, params)
+        except Exception:  # noqa: BLE001 - a hint rule that does not apply is skipped
+            continue
+        if hit:
+            return verdict("wrong", f"not correct: {mistake.message}", mistake=mistake.tag)
+    return verdict("wrong", "not correct" + (f": {reason}" if reason else ""),
+                   mistake=_reason_tag(reason))
+
+
+def _reason_tag(reason: str) -> str:
+    if not reason:
+        return "other"
+    for key, tag in (("rotation matrix", "not-orthonormal"), ("reflection", "reflection"),
+                     ("shape", "shape"), ("expected", "type"), ("raised", "raised"),
+                     ("decided", "undecided")):
+        if key in reason:
+            return tag
+    return "other"

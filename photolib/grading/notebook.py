@@ -1,0 +1,106 @@
+"""Immediate feedback in the student's notebook: :func:`task` and :func:`check`.
+
+Both read ``STUDENT_ID`` and the answer variables from the notebook's namespace. ``check``
+judges exactly as the grader does (same decoding, same judge, same hints), but in the
+student's own kernel, so it is feedback, not a grade: the grader re-runs the notebook in a
+sandbox and judges in its own process. The public test inputs of function exercises differ
+from the grader's hidden ones, and no message shows test inputs.
+"""
+
+from __future__ import annotations
+
+import sys
+
+from photolib.grading.encode import NOT_ANSWERED, decode_value, encode_value
+from photolib.grading.exercises import exercise as _exercise
+from photolib.grading.judge import FunctionOutputs, judge
+from photolib.grading.spec import Params
+from photolib.grading.variants import rng_for
+
+__all__ = ["task", "check", "parameters_for", "function_outputs", "reference_outputs"]
+
+
+def _namespace() -> dict:
+    try:
+        ip = get_ipython()  # noqa: F821 - defined inside IPython
+        return ip.user_ns
+    except NameError:
+        return vars(sys.modules["__main__"])
+
+
+def _student_id(ns: dict) -> str:
+    sid = ns.get("STUDENT_ID", "")
+    return sid if isinstance(sid, str) else str(sid)
+
+
+def parameters_for(exercise, student_id: str) -> Params:
+    """The variant of ``exercise`` for ``student_id``."""
+    return Params(exercise.parameters(rng_for(student_id, exercise.id)))
+
+
+def task(exercise_id: str) -> Params:
+    """Print the exercise with this student's numbers and return them.
+
+    Returns
+    -------
+    Params
+        The parameters, readable as attributes (``p.c_mm``).
+    """
+    ex = _exercise(exercise_id)
+    sid = _student_id(_namespace())
+    if not sid:
+        print("STUDENT_ID is empty: set it in the first cell (your numbers depend on it).")
+    params = parameters_for(ex, sid)
+    print(f"{ex.id} ({ex.points:g} points) {ex.title}\n{ex.statement.format(**params)}")
+    return params
+
+
+def function_outputs(func, cases) -> FunctionOutputs:
+    """Call ``func`` on each argument tuple; outputs as data (encoded then decoded)."""
+    outputs = []
+    for args in cases:
+        try:
+            value = func(*args)
+        except NotImplementedError:
+            value = None
+        except Exception as exc:  # noqa: BLE001 - the student's function may raise anything
+            return FunctionOutputs((), f"your function raised {type(exc).__name__}: {exc}")
+        outputs.append(decode_value(encode_value(value)))
+    return FunctionOutputs(tuple(outputs))
+
+
+def reference_outputs(cases):
+    """``outputs_of`` for :func:`~photolib.grading.judge.judge`: any function on ``cases``."""
+    def outputs_of(func):
+        return tuple(decode_value(encode_value(func(*args))) for args in cases)
+    return outputs_of
+
+
+def check(exercise_id: str) -> None:
+    """Judge the current answer of ``exercise_id`` and print one line of feedback."""
+    try:
+        ex = _exercise(exercise_id)
+    except KeyError as exc:
+        print(f"check: {exc.args[0]}")
+        return
+    ns = _namespace()
+    sid = _student_id(ns)
+    params = parameters_for(ex, sid)
+    value = ns.get(ex.answer, None)
+    outputs_of = None
+    if ex.kind == "function":
+        if not callable(value):
+            answer = NOT_ANSWERED
+        else:
+            cases = ex.cases(rng_for(sid, ex.id, "public"), params)
+            answer = function_outputs(value, cases)
+            outputs_of = reference_outputs(cases)
+    else:
+        try:
+            answer = decode_value(encode_value(value))
+        except Exception as exc:  # noqa: BLE001
+            print(f"{ex.id}: the answer could not be read ({type(exc).__name__}: {exc})")
+            return
+    verdict = judge(ex, params, answer, outputs_of)
+    mark = {"correct": "✔", "not-answered": "…"}.get(verdict.status, "✘")
+    print(f"{mark} {ex.id}: {verdict.message}")

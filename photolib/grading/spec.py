@@ -1,0 +1,143 @@
+"""How an exercise is declared: :class:`Exercise`, :class:`Mistake` and :class:`Params`.
+
+An exercise is data plus small functions, kept in a chapter module under
+:mod:`photolib.grading.exercises` so that the grader's own process has the parameters, the
+reference solution, the hidden tests and the hint rules without trusting the notebook.
+
+>>> ex = Exercise(
+...     id="demo.double", points=1, title="Double it", kind="number", answer="doubled",
+...     statement="Double a = {a}.", parameters=lambda rng: {"a": 2.5},
+...     reference=lambda p: 2 * p["a"])
+>>> ex.reference(ex.parameters(None))
+5.0
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+__all__ = ["KINDS", "Exercise", "Mistake", "Params"]
+
+#: answer kinds and what the answer variable holds
+KINDS = {
+    "number": "a real number",
+    "array": "an array of numbers of a fixed shape",
+    "rotation": "a rotation matrix (orthonormal, det +1)",
+    "expression": "a SymPy expression or Matrix, or a formula string",
+    "function": "a Python function, called on test inputs",
+    "choice": "the key of one option of a multiple choice, e.g. 'b'",
+}
+
+_ID = re.compile(r"^[a-z0-9]+(?:[.-][a-z0-9]+)*$")
+_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+
+
+class Params(dict):
+    """The parameters of one student's variant; keys also read as attributes.
+
+    >>> p = Params(c_mm=153.2)
+    >>> p.c_mm
+    153.2
+    """
+
+    def __getattr__(self, name):
+        try:
+            return self[name]
+        except KeyError:
+            raise AttributeError(f"no parameter {name!r}; parameters are {sorted(self)}") from None
+
+
+@dataclass(frozen=True)
+class Mistake:
+    """A recognisable mistake: the answer it produces, and the hint to give.
+
+    Parameters
+    ----------
+    tag : str
+        Short name counted in the gradebook summary, e.g. ``"transposed"``.
+    message : str
+        The hint shown to the student.
+    wrong : callable
+        ``wrong(params)`` returns the value (for function exercises: the function) that this
+        mistake produces. It may return ``None`` when the mistake does not apply.
+    """
+
+    tag: str
+    message: str
+    wrong: Callable[[Params], Any]
+
+
+@dataclass(frozen=True)
+class Exercise:
+    """One graded exercise.
+
+    Parameters
+    ----------
+    id : str
+        Globally unique, lower case, dotted: ``"rot.opk-matrix"``. Appears in the answer cell's
+        tag ``answer:ID``, in ``check("ID")`` and as a gradebook column.
+    points : float
+        Points for a correct answer.
+    title, statement : str
+        Heading and task text (Markdown). ``{name}`` fields are filled from the student's
+        parameters when :func:`photolib.grading.task` prints the statement.
+    kind : str
+        One of :data:`KINDS`.
+    answer : str
+        Name of the notebook variable (or function) that holds the answer.
+    parameters : callable
+        ``parameters(rng)`` draws the variant from a ``numpy.random.Generator``; values should
+        be rounded as printed, so student and reference compute with the same numbers.
+    reference : callable
+        ``reference(params)`` returns the correct answer (for ``kind="function"``: a function).
+    rtol, atol : float
+        Tolerances of numbers and arrays; ``atol`` is also the tolerance of matrix entries.
+    tolerance : callable, optional
+        ``tolerance(params) -> (rtol, atol)`` for tolerances that depend on the variant, e.g.
+        from error propagation (:func:`photolib.grading.judge.propagated_atol`).
+    mistakes : tuple of Mistake
+        Exercise-specific mistakes, tried before the generic ones of the answer kind.
+    cases : callable, optional
+        For functions: ``cases(rng, params)`` returns a list of argument tuples. The public
+        check and the grader call it with different generators; the grader's inputs stay hidden.
+    symbols : tuple of str
+        Symbol names allowed in formula strings (``kind="expression"``).
+    choices : dict, optional
+        For multiple choice: option key -> option text.
+    """
+
+    id: str
+    points: float
+    title: str
+    statement: str
+    kind: str
+    answer: str
+    parameters: Callable[[Any], dict]
+    reference: Callable[[Params], Any]
+    rtol: float = 1e-6
+    atol: float = 1e-9
+    tolerance: Callable[[Params], tuple] | None = None
+    mistakes: tuple = ()
+    cases: Callable[[Any, Params], list] | None = None
+    symbols: tuple = ()
+    choices: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        if not _ID.match(self.id):
+            raise ValueError(f"exercise id {self.id!r} must be lower case words joined by . or -")
+        if self.kind not in KINDS:
+            raise ValueError(f"exercise {self.id}: kind {self.kind!r} is not one of {list(KINDS)}")
+        if not _NAME.match(self.answer):
+            raise ValueError(f"exercise {self.id}: answer {self.answer!r} is not a Python name")
+        if not self.points > 0:
+            raise ValueError(f"exercise {self.id}: points must be positive, got {self.points!r}")
+        if self.kind == "function" and self.cases is None:
+            raise ValueError(f"exercise {self.id}: a function exercise needs cases")
+        if self.kind == "choice" and not self.choices:
+            raise ValueError(f"exercise {self.id}: a multiple choice needs choices")
+
+    def tolerances(self, params: Params) -> tuple[float, float]:
+        """``(rtol, atol)`` for this variant."""
+        return self.tolerance(params) if self.tolerance else (self.rtol, self.atol)

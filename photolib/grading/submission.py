@@ -1,0 +1,117 @@
+"""Reading a submitted notebook defensively: JSON, nbformat 3, duplicate ids, student id.
+
+>>> nb = read_submission_text('{"cells": [], "metadata": {}, "nbformat": 4, "nbformat_minor": 5}')
+>>> len(nb.cells)
+0
+>>> read_submission_text("not json")
+Traceback (most recent call last):
+...
+photolib.grading.submission.SubmissionError: invalid-json: not a JSON file (Expecting value: line 1 column 1 (char 0))
+"""
+
+from __future__ import annotations
+
+import ast
+import json
+import re
+import uuid
+from pathlib import Path
+
+import nbformat
+
+__all__ = ["SubmissionError", "read_submission", "read_submission_text", "static_student_id",
+           "chapter_of", "code_cells", "MAX_BYTES"]
+
+MAX_BYTES = 20 * 1024 * 1024
+_ID_OK = re.compile(r"^[A-Za-z0-9_.@+-]{1,64}$")
+
+
+class SubmissionError(ValueError):
+    """A submission that cannot be run; ``status`` is the gradebook status."""
+
+    def __init__(self, status: str, detail: str):
+        super().__init__(f"{status}: {detail}")
+        self.status, self.detail = status, detail
+
+
+def read_submission_text(text: str):
+    """Parse notebook JSON into an nbformat 4 notebook with unique cell ids."""
+    try:
+        data = json.loads(text)
+    except (json.JSONDecodeError, RecursionError) as exc:
+        raise SubmissionError("invalid-json", f"not a JSON file ({exc})") from None
+    if not isinstance(data, dict) or "nbformat" not in data:
+        raise SubmissionError("invalid-notebook", "JSON without an nbformat version")
+    try:
+        nb = nbformat.reads(json.dumps(data), as_version=4)
+    except Exception as exc:  # noqa: BLE001 - nbformat raises many kinds
+        raise SubmissionError("invalid-notebook", f"nbformat cannot read it ({exc})") from None
+    cells = nb.get("cells")
+    if not isinstance(cells, list):
+        raise SubmissionError("invalid-notebook", "no list of cells")
+    seen = set()
+    for cell in cells:
+        if not isinstance(cell, dict) or not isinstance(cell.get("source", ""), (str, list)):
+            raise SubmissionError("invalid-notebook", "a cell is not a cell")
+        if isinstance(cell.get("source"), list):
+            cell["source"] = "".join(map(str, cell["source"]))
+        cid = cell.get("id")
+        if not isinstance(cid, str) or cid in seen:
+            cell["id"] = uuid.uuid4().hex[:12]
+        seen.add(cell["id"])
+    return nb
+
+
+def read_submission(path: Path):
+    """Read ``path`` (at most :data:`MAX_BYTES`) with :func:`read_submission_text`."""
+    path = Path(path)
+    try:
+        size = path.stat().st_size
+        if size > MAX_BYTES:
+            raise SubmissionError("too-large", f"{size} bytes > {MAX_BYTES}")
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise SubmissionError("unreadable", str(exc)) from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError:
+        raise SubmissionError("invalid-json", "not UTF-8 text") from None
+    return read_submission_text(text)
+
+
+def code_cells(nb) -> list[str]:
+    """Sources of the code cells, in file order."""
+    return [c["source"] for c in nb.cells if c.get("cell_type") == "code"]
+
+
+def static_student_id(nb) -> str | None:
+    """The first ``STUDENT_ID = "literal"`` among the code cells, read without running."""
+    for source in code_cells(nb):
+        try:
+            tree = ast.parse(source)
+        except (SyntaxError, ValueError, RecursionError):
+            continue
+        for node in tree.body:
+            if (isinstance(node, ast.Assign) and len(node.targets) == 1
+                    and isinstance(node.targets[0], ast.Name)
+                    and node.targets[0].id == "STUDENT_ID"
+                    and isinstance(node.value, ast.Constant) and isinstance(node.value.value, str)):
+                return node.value.value
+    return None
+
+
+def valid_student_id(value) -> str | None:
+    """``value`` if it is a usable student id (letters, digits, ``_.@+-``, ≤ 64), else None."""
+    return value if isinstance(value, str) and _ID_OK.match(value) else None
+
+
+def chapter_of(nb, path: Path, known) -> str | None:
+    """Chapter of a submission: notebook metadata ``photolib.chapter``, else the file name."""
+    meta = nb.metadata.get("photolib", {}) if isinstance(nb.metadata, dict) else {}
+    name = meta.get("chapter") if isinstance(meta, dict) else None
+    if name in known:
+        return name
+    for chapter in known:
+        if chapter in Path(path).name:
+            return chapter
+    return None
