@@ -80,15 +80,23 @@ def test_generated_function_equals_lambdify(module, fn):
 
 
 def test_import_photolib_is_numpy_only_and_fast():
-    code = ("import sys, time; t = time.perf_counter(); import photolib; "
-            "dt = time.perf_counter() - t; "
-            "bad = [m for m in ('sympy', 'matplotlib', 'scipy', 'cv2', 'mpmath') if m in sys.modules]; "
-            "print(dt, bad)")
-    # take the best of three runs: a cold disk cache or a busy CI core is not what we measure
-    times = []
-    for _ in range(3):
+    """``import photolib`` loads no SymPy/SciPy/OpenCV/matplotlib and takes ≤ 0.2 s in all.
+
+    Each run times NumPy's own import and then photolib's on top of it, in a fresh interpreter;
+    the best of seven runs is taken for each share, because a busy CI core (the other xdist
+    worker) is not what we measure.
+    """
+    code = ("import sys, time; t0 = time.perf_counter(); import numpy; t1 = time.perf_counter(); "
+            "import photolib; t2 = time.perf_counter(); "
+            "bad = [m for m in ('sympy', 'matplotlib', 'scipy', 'cv2', 'mpmath', 'ipywidgets') "
+            "if m in sys.modules]; print(t1 - t0, t2 - t1, bad)")
+    numpy_t, own_t = [], []
+    for _ in range(7):
         out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-        dt, bad = out.stdout.split(" ", 1)
+        a, b, bad = out.stdout.split(" ", 2)
         assert bad.strip() == "[]", f"import photolib pulled in {bad.strip()}"
-        times.append(float(dt))
-    assert min(times) <= 0.2, f"import photolib took {min(times):.3f} s > 0.2 s"
+        numpy_t.append(float(a))
+        own_t.append(float(b))
+    assert min(own_t) <= 0.1, f"photolib's own import took {min(own_t):.3f} s > 0.1 s"
+    total = min(numpy_t) + min(own_t)
+    assert total <= 0.2, f"import photolib took {total:.3f} s (NumPy {min(numpy_t):.3f} s) > 0.2 s"
