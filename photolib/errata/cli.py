@@ -1,0 +1,126 @@
+"""Command line: ``python -m photolib errata`` and ``python -m photolib check-formula``.
+
+``errata``            verdict table of the whole catalogue
+``errata --id ID``    one record with its derivation steps and the comparison
+``errata --json``     JSON list of {id, source, item, verdicts, note}
+``check-formula "EXPR" --against ID``  parse EXPR safely and compare it with the derivation
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from photolib.errata import catalogue, get
+
+
+def _fmt(v) -> str:
+    try:
+        import mpmath
+        if isinstance(v, (mpmath.mpf, mpmath.mpc)):
+            return mpmath.nstr(v, 12)
+    except ImportError:  # pragma: no cover
+        pass
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_fmt(e) for e in v) + "]"
+    return str(v)
+
+
+def record_json(rec) -> dict:
+    """The JSON object of one record."""
+    return {"id": rec.id, "source": rec.source, "item": rec.item, "verdicts": rec.verdicts,
+            "note": rec.note}
+
+
+def describe(rec) -> str:
+    """Multi-line text of one record: versions, derivation, steps and evidence."""
+    lines = [f"{rec.id}: {rec.item}", f"  source: {rec.source}", f"  kind: {rec.kind}"]
+    for name, expr in rec.versions.items():
+        lines.append(f"  printed ({name}): {expr}")
+    if rec.derivation is not None:
+        lines.append(f"  derivation: {rec.derived()}")
+    for i, step in enumerate(rec.steps, 1):
+        lines.append(f"    step {i}: {step}")
+    for name in rec.specs:
+        ev = rec.evaluate(name)
+        lines.append(f"  verdict ({name}): {ev.verdict}")
+        if ev.detail:
+            lines.append(f"    why: {ev.detail}")
+        if ev.counterexample:
+            pt = ", ".join(f"{k} = {_fmt(v)}" for k, v in sorted(ev.counterexample.items(),
+                                                                 key=lambda kv: str(kv[0])))
+            lines.append(f"    counterexample: {pt}")
+        if ev.values:
+            lines.append(f"    values (printed, derived): {_fmt(ev.values[0])} | "
+                         f"{_fmt(ev.values[1])}")
+        for row in ev.table:
+            lines.append("    " + " | ".join(_fmt(c) for c in row))
+    if rec.note:
+        lines.append(f"  note: {rec.note}")
+    return "\n".join(lines)
+
+
+def errata_main(argv) -> int:
+    """``python -m photolib errata [--id ID] [--json]``."""
+    p = argparse.ArgumentParser(prog="python -m photolib errata",
+                                description="Verdicts of the errata catalogue.")
+    p.add_argument("--id", help="print one record with derivation and comparison")
+    p.add_argument("--json", action="store_true", help="JSON list of all records")
+    args = p.parse_args(argv)
+    if args.id:
+        try:
+            rec = get(args.id)
+        except KeyError as exc:
+            print(exc.args[0], file=sys.stderr)
+            return 2
+        print(json.dumps(record_json(rec), ensure_ascii=False, indent=1) if args.json
+              else describe(rec))
+        return 0
+    recs = catalogue()
+    if args.json:
+        print(json.dumps([record_json(r) for r in recs], ensure_ascii=False, indent=1))
+        return 0
+    width = max(len(r.id) for r in recs)
+    for r in recs:
+        for i, (name, verdict) in enumerate(r.verdicts.items()):
+            head = r.id if i == 0 else ""
+            print(f"{head:<{width}}  {name:<9}  {verdict}")
+    return 0
+
+
+def check_formula_main(argv) -> int:
+    """``python -m photolib check-formula "EXPR" --against ID``; exit 0 iff equal."""
+    from photolib.symcheck import UnsafeExpressionError, parse_expression
+
+    p = argparse.ArgumentParser(prog="python -m photolib check-formula",
+                                description="Compare a typed formula with a derivation.")
+    p.add_argument("expr", help="formula, e.g. \"z_p/N*(k_y/N*(k_y*sin(kappa) - "
+                                "k_x*cos(kappa)) + N*sin(kappa))\"")
+    p.add_argument("--against", required=True, help="record id, e.g. luhmann:4.18b")
+    args = p.parse_args(argv)
+    try:
+        rec = get(args.against)
+    except KeyError as exc:
+        print(exc.args[0], file=sys.stderr)
+        return 2
+    if rec.derivation is None:
+        print(f"{rec.id} has no derivation to compare with", file=sys.stderr)
+        return 2
+    try:
+        expr = parse_expression(args.expr, rec.symbol_table())
+    except UnsafeExpressionError as exc:
+        print(f"rejected: {exc}", file=sys.stderr)
+        return 2
+    conds = [s.condition for s in rec.specs.values() if s.condition is not None]
+    cond = conds[0]() if conds and callable(conds[0]) else (conds[0] if conds else None)
+    v = rec.compare(expr, cond)
+    print(f"{rec.id}: {v.kind} ({v.method})")
+    if v.condition is not None:
+        print(f"  condition: {v.condition}")
+    if v.counterexample:
+        pt = ", ".join(f"{k} = {_fmt(x)}" for k, x in sorted(v.counterexample.items(),
+                                                             key=lambda kv: str(kv[0])))
+        print(f"  counterexample: {pt}")
+        print(f"  values (yours, derived): {_fmt(v.values[0])} | {_fmt(v.values[1])}")
+    return 0 if v.kind in ("equal", "equal-under-condition") else 1

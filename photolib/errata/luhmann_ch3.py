@@ -1,0 +1,116 @@
+"""Luhmann errata of chapter 3: example 3.7, table 3.3 with the text of p. 163/164, figures.
+
+Example 3.7 gives M_b = 1:125, h = 5 m, b = 1.2 m and s_px' = 4 µm; the results are not
+printed in the errata list, so they are recomputed here from the inputs for both readings of
+the relation between s_px' and s_x'.
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from photolib.derive import stereo
+from photolib.errata._record import Evidence, Record, VersionSpec, figure
+
+SRC = "002_b1d9e6507973e20d.txt (Luhmann errata list, 11.7.2017)"
+
+#: printed inputs of example 3.7 (m, mm, µm as printed)
+EX37 = {"m": 125, "h_m": 5.0, "b_m": 1.2, "s_px_um": 4.0}
+#: table 3.3 (corrected): rows in mm, columns Rollei 6008, DCS 645M, DCS 460, JAI, Basler
+TABLE33 = {"total": (0.0767, -0.2641, 0.2229, -0.0045, -0.5674),
+           "iterative": (-0.0008, -0.0134, -0.0438, -0.0003, 0.2385)}
+#: values quoted in the text of p. 164 (µm, magnitudes as printed, signs as printed)
+TEXT33 = {"DCS 645M": (1, -13.4), "DCS 460": (2, -43.8), "Rollei 6008": (0, 0.8),
+          "JAI": (3, 0.3), "Basler": (4, 238.0)}
+
+
+def example_37(factor_name: str):
+    """Recompute σ_XY and σ_Z (mm) of example 3.7 with ``s_px' = s_x'·factor``."""
+    m, h, b, spx = EX37["m"], EX37["h_m"], EX37["b_m"], EX37["s_px_um"]
+    derived_factor = stereo.parallax_sigma_independent() / stereo.s_x  # √2, by propagation
+    factor = derived_factor if factor_name == "sqrt2" else 1 / derived_factor
+    s_x_um = spx / float(factor)
+    s_xy_mm = float(stereo.sigma_XY().subs({stereo.m: m, stereo.s_x: s_x_um})) / 1000
+    s_z_mm = float(stereo.sigma_Z().subs({stereo.h: h, stereo.b: b, stereo.m: m,
+                                         stereo.s_px: spx})) / 1000
+    return {"s_x_um": s_x_um, "s_XY_mm": s_xy_mm, "s_Z_mm": s_z_mm, "factor": factor}
+
+
+def _ev37(old: bool) -> Evidence:
+    res = example_37("sqrt2" if old else "inv")
+    nums = (f"s_x' = {res['s_x_um']:.3f} µm, σ_XY = {res['s_XY_mm']:.3f} mm, "
+            f"σ_Z = {res['s_Z_mm']:.3f} mm")
+    if old:
+        return Evidence("right-under-condition: x'1 and x'2 measured independently with "
+                        "equal σ (law of error propagation of px' = x'1 − x'2)",
+                        "σ(px') = √2·σ(x') by propagation; " + nums,
+                        table=[("s_Z_mm", None, res["s_Z_mm"], None, True)])
+    return Evidence("right-under-condition: empirical assumption that simultaneous "
+                    "stereoscopic viewing measures parallax better than one coordinate; it "
+                    "does not follow from error propagation",
+                    "s_px' = s_x'/√2 contradicts independent measurement (√2); " + nums,
+                    table=[("s_Z_mm", None, res["s_Z_mm"], None, True)])
+
+
+def _ev33_text() -> Evidence:
+    rows, bad = [], []
+    for name, (col, quoted) in TEXT33.items():
+        table_um = TABLE33["iterative"][col] * 1000
+        same_mag = abs(abs(table_um) - abs(quoted)) <= 0.5 + 1e-9
+        same_sign = (table_um < 0) == (quoted < 0)
+        rows.append((name, quoted, table_um, 0.5, same_mag and same_sign))
+        if not same_sign:
+            bad.append(f"{name}: text {quoted:+g} µm, table {table_um:+g} µm (sign dropped)")
+    if all(r[4] for r in rows):
+        return Evidence("right", "text values equal the table (mm → µm)", table=rows)
+    if all(abs(abs(r[1]) - abs(r[2])) <= 0.5 + 1e-9 for r in rows):
+        return Evidence("right-under-condition: text quotes magnitudes; "
+                        + "; ".join(bad), "magnitudes agree to the rounding", table=rows)
+    return Evidence("wrong", "; ".join(bad), table=rows)
+
+
+def records():
+    r = []
+    r.append(Record(
+        id="luhmann:example-3.7", source=SRC + ", p. 138, example 3.7",
+        item="stereo accuracy: parallax σ from coordinate σ", kind="example",
+        specs={"old": VersionSpec("right-under-condition: x'1 and x'2 measured independently "
+                                  "with equal σ (law of error propagation of px' = x'1 − x'2)",
+                                  check=lambda: _ev37(True), claim="wrong",
+                                  expr=lambda: stereo.s_x * sp.sqrt(2)),
+               "corrected": VersionSpec(
+                   "right-under-condition: empirical assumption that simultaneous "
+                   "stereoscopic viewing measures parallax better than one coordinate; it "
+                   "does not follow from error propagation",
+                   check=lambda: _ev37(False), claim="right",
+                   expr=lambda: stereo.s_x / sp.sqrt(2))},
+        derivation=stereo.parallax_sigma_independent,
+        steps=("px' = x'1 − x'2; independent x'1, x'2 with σ s_x': σ(px') = √2·s_x' (propagation)",
+               "σ_XY = m·s_x' with m = 125",
+               "Z = −c·b/px': |dZ/dpx'| = Z²/(c·b) = (h/b)·m, so σ_Z = (h/b)·m·s_px' = 2.083 mm",
+               "old (s_px' = √2·s_x'): s_x' = 2.83 µm, σ_XY = 0.354 mm; corrected "
+               "(s_px' = s_x'/√2): s_x' = 5.66 µm, σ_XY = 0.707 mm"),
+        note="σ_Z (2.083 mm) does not depend on the reading; σ_XY does (factor 2). "
+             "Which one is 'right' depends on how the parallax is measured, not on algebra."))
+    r.append(Record(
+        id="luhmann:table-3.3", source=SRC + ", p. 163/164, table 3.3 and text",
+        item="iterative distortion correction: text versus table", kind="example",
+        specs={"corrected": VersionSpec(
+            "right-under-condition: text quotes magnitudes; Rollei 6008: text +0.8 µm, table "
+            "-0.8 µm (sign dropped); JAI: text +0.3 µm, table -0.3 µm (sign dropped)",
+            check=_ev33_text, claim="right")},
+        steps=("table row 'Iterative Korrektur' in mm → µm",
+               "compare with the values quoted in the text (DCS 645M −13.4, DCS 460 −43.8, "
+               "Rollei 0.8, JAI 0.3, Basler 238 µm)"),
+        note="The table values themselves need the cameras' distortion parameters and image "
+             "positions, which are not printed: not recomputable. The text's '3-4 iterations' "
+             "refers to Abb. 3.67a (a figure). Only the consistency of text and table is checked."))
+    r.append(figure("luhmann:fig-3.45", SRC + ", p. 142, Abb. 3.45", "principal point versus "
+                    "piercing point of the optical axis", "figure only"))
+    r.append(figure("luhmann:fig-3.52", SRC + ", p. 148, Abb. 3.52", "label Δr'",
+                    "figure label only"))
+    r.append(figure("luhmann:fig-3.67b", SRC + ", p. 163, Abb. 3.67b", "curve of iterative "
+                    "correction", "figure only; the curve is not in the errata text"))
+    r.append(figure("luhmann:fig-3.74-3.75", SRC + ", p. 170, Abb. 3.74/3.75",
+                    "frame-transfer sensor drawings", "figure only"))
+    return r
