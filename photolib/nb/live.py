@@ -124,6 +124,7 @@ class Panel(widgets.VBox):
     def __init__(self, children=(), title: str = "", **kwargs):
         super().__init__(children=list(children), **kwargs)
         self._title = title
+        self.add_class("photolib-explorer")  # found by tests/browser/test_lab.py
 
     def __repr__(self) -> str:
         return f"[widget: {self._title}]"
