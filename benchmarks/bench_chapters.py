@@ -1,0 +1,57 @@
+"""Chapter execution time from a fresh kernel, against a course-style floor notebook.
+
+Target: each chapter at most 2.5 × the floor, measured in the same run. The floor
+notebook does what every chapter must do anyway: start a kernel, import NumPy, SymPy,
+matplotlib and ipywidgets, and draw one figure.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+import nbformat
+from nbclient import NotebookClient
+
+ROOT = Path(__file__).resolve().parents[1]
+CHAPTERS = ["04-rotations", "05-interior-orientation", "06-collinearity"]
+FACTOR = 2.5
+
+FLOOR = """\
+import numpy as np
+import sympy as sp
+import matplotlib.pyplot as plt
+import ipywidgets
+fig, ax = plt.subplots()
+ax.plot(np.linspace(0, 1, 50), np.linspace(0, 1, 50) ** 2)
+"""
+
+
+def _execute(nb) -> float:
+    t = time.perf_counter()
+    NotebookClient(nb, timeout=300, kernel_name="python3",
+                   resources={"metadata": {"path": str(ROOT / "notebooks")}}).execute()
+    return time.perf_counter() - t
+
+
+def floor_notebook():
+    return nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(FLOOR)])
+
+
+def run() -> int:
+    floor = min(_execute(floor_notebook()) for _ in range(2))
+    print(f"floor notebook (kernel + imports + one figure): {floor:.2f} s")
+    ok = True
+    for name in CHAPTERS:
+        nb = nbformat.read(ROOT / "notebooks" / f"{name}.ipynb", as_version=4)
+        seconds = _execute(nb)
+        ratio = seconds / floor
+        ok &= ratio <= FACTOR
+        print(f"{name:26s} {seconds:6.2f} s = {ratio:4.2f} × floor "
+              f"({'OK' if ratio <= FACTOR else 'TOO SLOW'}, target ≤ {FACTOR} ×)")
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(run())

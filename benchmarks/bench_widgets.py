@@ -1,0 +1,50 @@
+"""Widget redraw time: every chapter widget, one slider move → figure PNG and text.
+
+Target: at most 50 ms per update (the sliders update live, ``continuous_update=True``).
+Each update runs the full callback: the numbers (``*_report``), moving the artists,
+blitting on the cached background and encoding the PNG that the Output widget shows.
+"""
+
+from __future__ import annotations
+
+import itertools
+import sys
+
+from benchmarks._timing import best_time
+
+TARGET_MS = 50.0
+
+
+def _cases():
+    from photolib.nb import distortion, projection, rotations
+
+    return [
+        (rotations.RotationExplorer, "phi", (10.0, 60.0)),
+        (rotations.OrderExplorer, "omega", (30.0, 70.0)),
+        (distortion.DistortionExplorer, "A1", (-2.0, 4.0)),
+        (distortion.IterationExplorer, "A1", (-2.0, -60.0)),
+        (projection.ProjectionExplorer, "kappa", (0.0, 25.0)),
+        (projection.FootprintExplorer, "phi", (0.0, 20.0)),
+    ]
+
+
+def run() -> int:
+    worst = 0.0
+    for cls, name, values in _cases():
+        explorer = cls()
+        cycle = itertools.cycle(values)
+        slider = explorer.controls[name]
+
+        def move():
+            slider.value = next(cycle)  # the observe callback redraws
+
+        ms = best_time(move, repeat=5, min_time=0.2) * 1000.0
+        worst = max(worst, ms)
+        print(f"{cls.__name__:22s} slider {name:6s} {ms:6.1f} ms per update")
+    verdict = "OK" if worst <= TARGET_MS else "TOO SLOW"
+    print(f"slowest widget: {worst:.1f} ms per update (target ≤ {TARGET_MS:.0f} ms): {verdict}")
+    return 0 if worst <= TARGET_MS else 1
+
+
+if __name__ == "__main__":
+    sys.exit(run())
