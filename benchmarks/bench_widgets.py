@@ -35,7 +35,7 @@ def run() -> int:
         cycle = itertools.cycle(values)
         slider = explorer.controls[name]
 
-        def move():
+        def move(slider=slider, cycle=cycle):
             slider.value = next(cycle)  # the observe callback redraws
 
         ms = best_time(move, repeat=5, min_time=0.2) * 1000.0
