@@ -23,7 +23,7 @@ import nbformat
 
 from photolib.grading.exercises import chapter as chapter_exercises
 
-__all__ = ["make_student_copy", "assign_folder", "AssignError", "STUDENT_ID_LINE"]
+__all__ = ["STUDENT_ID_LINE", "AssignError", "assign_folder", "make_student_copy"]
 
 STUDENT_ID_LINE = 'STUDENT_ID = ""  # your student id, e.g. "s1234567"'
 _BEGIN, _END = "### BEGIN SOLUTION", "### END SOLUTION"

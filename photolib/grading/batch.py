@@ -25,12 +25,17 @@ from photolib.grading.extract import ExtractionError, build_extraction, parse_ex
 from photolib.grading.judge import Judgement, judge
 from photolib.grading.notebook import parameters_for, reference_outputs
 from photolib.grading.sandbox import Limits, SandboxedKernel
-from photolib.grading.submission import (SubmissionError, chapter_of, code_cells,
-                                         read_submission, static_student_id,
-                                         valid_student_id)
+from photolib.grading.submission import (
+    SubmissionError,
+    chapter_of,
+    code_cells,
+    read_submission,
+    static_student_id,
+    valid_student_id,
+)
 from photolib.grading.variants import rng_for
 
-__all__ = ["Graded", "KernelPool", "grade_submission", "grade_batch", "WARM_MODULES"]
+__all__ = ["WARM_MODULES", "Graded", "KernelPool", "grade_batch", "grade_submission"]
 
 #: imported into every kernel before it is handed a submission
 WARM_MODULES = ("numpy", "sympy", "photolib.grading.notebook")
@@ -76,6 +81,7 @@ class KernelPool:
         self._lock = threading.Lock()
         self._threads = []
         self._pending = 0
+        self._waiting = 0
         first = size if total is None else min(size, total)
         self._remaining = None if total is None else total - first
         for _ in range(first):
@@ -111,15 +117,18 @@ class KernelPool:
         """A started kernel; a new one is started in the background to replace it."""
         spawn = False
         with self._lock:
+            self._waiting += 1
             if self._remaining is None or self._remaining > 0:
                 spawn = not self._closed
                 if self._remaining is not None:
                     self._remaining -= 1
-            elif self._pending == 0 and self._ready.empty():
+            elif self._pending + self._ready.qsize() < self._waiting:
                 spawn = True  # a restart beyond the planned number of kernels
         if spawn:
             self._spawn()
         item = self._ready.get()
+        with self._lock:
+            self._waiting -= 1
         if isinstance(item, Exception):
             raise RuntimeError(f"could not start a sandboxed kernel: {item}") from item
         return item
@@ -272,7 +281,7 @@ def grade_submission(path, pool: KernelPool, limits: Limits) -> Graded:
         judgements.append(judge(ex, p, answer, outputs_of))
     status = _status(errors, deaths, timed_out, tampered, kernel is None, sid)
     return Graded(str(path), sid or "", status, "; ".join(notes), name, judgements,
-                  text[:2000], time.monotonic() - t0)
+                  text, time.monotonic() - t0)
 
 
 def _status(errors, deaths, timed_out, tampered, no_kernel, sid) -> str:

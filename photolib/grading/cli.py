@@ -31,8 +31,12 @@ def grade_main(argv: list[str]) -> int:
     """Grade submissions into a gradebook; see ``docs/instructors.md``."""
     from photolib.grading.batch import grade_batch
     from photolib.grading.exercises import chapters
-    from photolib.grading.report import (Gradebook, feedback_markdown, feedback_name,
-                                         summary_markdown)
+    from photolib.grading.report import (
+        Gradebook,
+        feedback_markdown,
+        feedback_name,
+        summary_markdown,
+    )
     from photolib.grading.sandbox import sandbox_support
     parser = argparse.ArgumentParser(prog="python -m photolib grade",
                                      description="grade submitted notebooks")

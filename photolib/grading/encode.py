@@ -20,7 +20,7 @@ import math
 
 import numpy as np
 
-__all__ = ["encode_value", "decode_value", "DecodeError", "NOT_ANSWERED", "MAX_ELEMENTS"]
+__all__ = ["MAX_ELEMENTS", "NOT_ANSWERED", "DecodeError", "decode_value", "encode_value"]
 
 MAX_ELEMENTS = 100_000
 MAX_NODES = 20_000

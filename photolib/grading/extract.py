@@ -20,7 +20,7 @@ from photolib.grading.encode import NOT_ANSWERED, DecodeError, Unsupported, deco
 from photolib.grading.judge import FunctionOutputs
 from photolib.grading.sandbox import RESULT_MIME
 
-__all__ = ["build_extraction", "parse_extraction", "ExtractionError"]
+__all__ = ["ExtractionError", "build_extraction", "parse_extraction"]
 
 CALL_SECONDS = 5.0
 

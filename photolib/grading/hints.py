@@ -18,9 +18,18 @@ import numpy as np
 
 from photolib.grading.spec import Mistake, Params
 
-__all__ = ["MESSAGES", "generic_mistakes", "scaled_parameter", "transposed", "scaled_result",
-           "degrees_for_radians", "gon_for_radians", "reversed_sense", "sign_of",
-           "erratum_version"]
+__all__ = [
+    "MESSAGES",
+    "degrees_for_radians",
+    "erratum_version",
+    "generic_mistakes",
+    "gon_for_radians",
+    "reversed_sense",
+    "scaled_parameter",
+    "scaled_result",
+    "sign_of",
+    "transposed",
+]
 
 #: the standard hint of each mistake tag
 MESSAGES = {

@@ -19,7 +19,7 @@ import numpy as np
 from photolib.grading.encode import NOT_ANSWERED, Unsupported
 from photolib.grading.hints import generic_mistakes
 
-__all__ = ["Judgement", "judge", "compare", "propagated_atol", "FunctionOutputs"]
+__all__ = ["FunctionOutputs", "Judgement", "compare", "judge", "propagated_atol"]
 
 
 @dataclass(frozen=True)
@@ -109,8 +109,10 @@ def _expression_verdict(answer, expected) -> str:
 
 
 def _parse_formula(exercise, text: str):
-    from photolib.symcheck import UnsafeExpressionError, parse_expression  # noqa: F401
-    return parse_expression(text, symbols=list(exercise.symbols) or None)
+    import sympy as sp
+
+    from photolib.symcheck import parse_expression
+    return parse_expression(text, symbols=[sp.Symbol(s) for s in exercise.symbols] or None)
 
 
 def compare(exercise, answer, expected, params) -> tuple[bool, str]:

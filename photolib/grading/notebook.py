@@ -17,12 +17,12 @@ from photolib.grading.judge import FunctionOutputs, judge
 from photolib.grading.spec import Params
 from photolib.grading.variants import rng_for
 
-__all__ = ["task", "check", "parameters_for", "function_outputs", "reference_outputs"]
+__all__ = ["check", "function_outputs", "parameters_for", "reference_outputs", "task"]
 
 
 def _namespace() -> dict:
     try:
-        ip = get_ipython()  # noqa: F821 - defined inside IPython
+        ip = get_ipython()
         return ip.user_ns
     except NameError:
         return vars(sys.modules["__main__"])

@@ -15,7 +15,7 @@ import re
 from collections import Counter
 from pathlib import Path
 
-__all__ = ["Gradebook", "feedback_markdown", "summary_markdown", "BASE_COLUMNS"]
+__all__ = ["BASE_COLUMNS", "Gradebook", "feedback_markdown", "summary_markdown"]
 
 BASE_COLUMNS = ["submission", "student_id", "status", "total", "max_total"]
 

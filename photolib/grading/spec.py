@@ -15,8 +15,9 @@ reference solution, the hidden tests and the hint rules without trusting the not
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any
 
 __all__ = ["KINDS", "Exercise", "Mistake", "Params"]
 

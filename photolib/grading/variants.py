@@ -19,7 +19,7 @@ import os
 
 import numpy as np
 
-__all__ = ["rng_for", "aerial_camera", "close_range_camera", "PURPOSES"]
+__all__ = ["PURPOSES", "aerial_camera", "close_range_camera", "rng_for"]
 
 PURPOSES = ("params", "public", "hidden")
 

@@ -16,7 +16,7 @@ import functools
 import importlib
 import pkgutil
 
-__all__ = ["chapters", "chapter", "exercise"]
+__all__ = ["chapter", "chapters", "exercise"]
 
 
 @functools.cache

@@ -31,8 +31,8 @@ def _scale(p):
 
 
 def _scale_tolerance(p):
-    # the answer may be computed from the printed values rounded once more
-    return 1e-6, propagated_atol(_scale, p, {"c_mm": 0.0005, "h_m": 0.005}, floor=1e-3)
+    # m_b may be rounded to a whole number, or computed from c and h rounded once more
+    return 1e-6, max(0.5, propagated_atol(_scale, p, {"c_mm": 0.0005, "h_m": 0.005}))
 
 
 image_scale = Exercise(

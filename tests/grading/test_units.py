@@ -1,0 +1,218 @@
+"""Judging, hints, encoding and variants in the grader's process (no kernel)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from photolib.grading import hints
+from photolib.grading.encode import (
+    NOT_ANSWERED,
+    DecodeError,
+    Unsupported,
+    decode_value,
+    encode_value,
+)
+from photolib.grading.exercises import chapter, chapters, exercise
+from photolib.grading.judge import FunctionOutputs, judge
+from photolib.grading.notebook import function_outputs, parameters_for, reference_outputs
+from photolib.grading.spec import Exercise, Mistake, Params
+from photolib.grading.variants import rng_for
+
+
+def _judge(ex_id, answer, sid="s0001"):
+    ex = exercise(ex_id)
+    p = parameters_for(ex, sid)
+    value = answer(p) if callable(answer) and ex.kind != "function" else answer
+    if ex.kind == "function":
+        cases = ex.cases(rng_for(sid, ex.id, "hidden"), p)
+        return judge(ex, p, function_outputs(answer, cases), reference_outputs(cases))
+    return judge(ex, p, decode_value(encode_value(value)))
+
+
+def test_variants_differ_between_students_and_repeat_for_one():
+    ex = exercise("demo.image-scale")
+    a, b = parameters_for(ex, "s1"), parameters_for(ex, "s2")
+    assert a == parameters_for(ex, "s1")
+    assert a != b
+
+
+@pytest.mark.parametrize("sid", [f"s{i}" for i in range(40)])
+def test_parameters_are_realistic(sid):
+    p = parameters_for(exercise("demo.image-scale"), sid)
+    assert 8 <= p.c_mm <= 310 and 1 <= p.h_m <= 6000
+    assert 5 <= parameters_for(exercise("demo.rotation-2d"), sid).kappa_gon <= 395
+
+
+def test_hidden_cases_depend_on_secret(monkeypatch):
+    a = rng_for("s1", "demo.scale-function", "hidden").uniform()
+    monkeypatch.setenv("PHOTOLIB_GRADING_SECRET", "course-2026")
+    assert rng_for("s1", "demo.scale-function", "hidden").uniform() != a
+    assert rng_for("s1", "demo.scale-function", "public").uniform() == \
+        rng_for("s1", "demo.scale-function", "public").uniform()
+
+
+def _rot2(p, k=None):
+    k = p.kappa_gon * math.pi / 200 if k is None else k
+    return np.array([[math.cos(k), -math.sin(k)], [math.sin(k), math.cos(k)]])
+
+
+@pytest.mark.parametrize("ex_id, answer, status, mistake", [
+    ("demo.image-scale", lambda p: p.h_m / p.c_mm * 1000, "correct", None),
+    ("demo.image-scale", lambda p: round(p.h_m / p.c_mm * 1000), "correct", None),
+    ("demo.image-scale", lambda p: p.h_m / p.c_mm, "wrong", "units-mm-m"),
+    ("demo.image-scale", lambda p: -p.h_m / p.c_mm * 1000, "wrong", "sign-c"),
+    ("demo.image-scale", lambda p: p.h_m / p.c_mm * 1100, "wrong", "other"),
+    ("demo.image-scale", lambda p: "12000", "wrong", "type"),
+    ("demo.rotation-2d", _rot2, "correct", None),
+    ("demo.rotation-2d", lambda p: _rot2(p).T, "wrong", "transposed"),
+    ("demo.rotation-2d", lambda p: _rot2(p, p.kappa_gon), "wrong", "gon"),
+    ("demo.rotation-2d", lambda p: _rot2(p, math.radians(p.kappa_gon)), "wrong", "degrees"),
+    ("demo.rotation-2d", lambda p: 2 * _rot2(p), "wrong", "not-orthonormal"),
+    ("demo.rotation-2d", lambda p: np.diag([1.0, -1.0]), "wrong", "reflection"),
+    ("demo.rotation-2d", lambda p: np.eye(3), "wrong", "shape"),
+    ("demo.rotation-x", lambda p: np.array([[1, 0, 0], [0, math.cos(p.omega_deg),
+                                                        -math.sin(p.omega_deg)],
+                                            [0, math.sin(p.omega_deg), math.cos(p.omega_deg)]]),
+     "wrong", "degrees"),
+    ("demo.rotation-x", lambda p: None, "not-answered", None),
+    ("demo.inverse-choice", lambda p: p.correct.upper(), "correct", None),
+    ("demo.inverse-choice", lambda p: "a" if p.correct != "a" else "b", "wrong", "other"),
+])
+def test_judge_and_hints(ex_id, answer, status, mistake):
+    verdict = _judge(ex_id, answer)
+    assert verdict.status == status, verdict.message
+    assert verdict.mistake == mistake
+    assert verdict.points == (verdict.max_points if status == "correct" else 0)
+
+
+def test_symbolic_answers():
+    w = sp.Symbol("omega")
+    good = sp.Matrix([[1, 0, 0], [0, sp.cos(w), -sp.sin(w)], [0, sp.sin(w), sp.cos(w)]])
+    rewritten = good.applyfunc(lambda e: sp.expand_trig(sp.sin(sp.pi / 2 - w))
+                               if e == sp.cos(w) else e)
+    assert _judge("demo.rotation-x-symbolic", rewritten).correct
+    assert _judge("demo.rotation-x-symbolic", good.T).mistake == "transposed"
+    assert _judge("demo.rotation-x-symbolic", good[:2, :2]).status == "wrong"
+
+
+def test_function_answers():
+    assert _judge("demo.scale-function", lambda c, h: h / c * 1000).correct
+    assert _judge("demo.scale-function", lambda c, h: h / c).mistake == "units-mm-m"
+    assert _judge("demo.scale-function", lambda c, h: -h / c * 1000).mistake == "sign-c"
+    raised = _judge("demo.scale-function", lambda c, h: 1 / 0)
+    assert "ZeroDivisionError" in raised.message and raised.points == 0
+    assert _judge("demo.scale-function", lambda c, h: ...).status == "not-answered"
+
+
+def test_public_messages_never_show_hidden_inputs():
+    ex = exercise("demo.scale-function")
+    p = parameters_for(ex, "s1")
+    cases = ex.cases(rng_for("s1", ex.id, "hidden"), p)
+    for answer in (lambda c, h: h / c, lambda c, h: 1 / 0, lambda c, h: "x"):
+        msg = judge(ex, p, function_outputs(answer, cases), reference_outputs(cases)).message
+        for args in cases:
+            for value in args:
+                assert f"{value:g}" not in msg and repr(value) not in msg
+
+
+@pytest.mark.parametrize("bad", [
+    {"t": "sympy", "v": {"f": "__import__", "a": [{"s": "os"}]}},
+    {"t": "sympy", "v": {"f": "Function", "a": []}},
+    {"t": "sympy", "v": {"s": "__class__"}},
+    {"t": "sympy", "v": {"f": "Pow", "a": [{"i": "10"}, {"i": "100000"}]}},
+    {"t": "sympy", "v": {"i": "1" * 500}},
+    {"t": "num", "v": "__import__('os')"},
+    {"t": "array", "shape": [2, 2], "v": ["1"]},
+    {"t": "matrix", "shape": [1, 1], "v": [{"c": "oo"}]},
+    {"t": "eval", "v": "1"},
+    "1 + 1",
+])
+def test_decoder_whitelist_rejects(bad):
+    with pytest.raises(DecodeError):
+        decode_value(bad)
+
+
+def test_encode_round_trips():
+    x = sp.Symbol("x")
+    for value in (1.5, np.float32(2.0), np.arange(6.0).reshape(2, 3), sp.atan2(x, 2) * sp.pi,
+                  sp.Matrix([[x, 1], [sp.Rational(1, 3), sp.E]]), "b", True):
+        back = decode_value(encode_value(value))
+        if isinstance(value, np.ndarray):
+            np.testing.assert_array_equal(back, value)
+        else:
+            assert back == value or float(back) == float(value)
+    assert decode_value(encode_value(...)) is NOT_ANSWERED
+    assert isinstance(decode_value(encode_value(object())), Unsupported)
+
+
+def test_formula_strings_are_parsed_by_symcheck():
+    symcheck = pytest.importorskip("photolib.symcheck")
+    assert _judge("demo.rotation-x-symbolic", "__import__('os').system('true')").mistake == \
+        "unsafe"
+    assert symcheck.UnsafeExpressionError
+
+
+def test_erratum_hint_uses_the_catalogue(monkeypatch):
+    import sys
+    import types
+    h, c = sp.symbols("h c")
+
+    class Record:
+        versions = {"old": h * c, "new": h / c}
+
+    fake = types.ModuleType("photolib.errata")
+    fake.get = lambda rid: Record()
+    monkeypatch.setitem(sys.modules, "photolib.errata", fake)
+    import photolib
+    monkeypatch.setattr(photolib, "errata", fake, raising=False)
+    rule = hints.erratum_version("luhmann:4.18b",
+                                 lambda e, p: float(e.subs({h: p["h"], c: p["c"]})))
+    ex = Exercise(id="t.err", points=1, title="", statement="", kind="number", answer="a",
+                  parameters=lambda rng: {"h": 2.0, "c": 4.0},
+                  reference=lambda p: p["h"] / p["c"], mistakes=(rule,))
+    verdict = judge(ex, Params(h=2.0, c=4.0), 8.0)
+    assert verdict.mistake == "erratum" and "luhmann:4.18b" in verdict.message
+
+
+def test_erratum_hint_degrades_without_catalogue(monkeypatch):
+    import sys
+    monkeypatch.setitem(sys.modules, "photolib.errata", None)
+    rule = hints.erratum_version("luhmann:4.18b", lambda e, p: 1.0)
+    assert rule.wrong(Params()) is None
+
+
+def test_registry_is_consistent():
+    ids = [ex.id for exs in chapters().values() for ex in exs]
+    assert len(ids) == len(set(ids))
+    assert {ex.kind for ex in chapter("00-grading-demo")} >= {"number", "rotation",
+                                                               "expression", "function",
+                                                               "choice"}
+    with pytest.raises(KeyError, match="unknown exercise id 'nope'"):
+        exercise("nope")
+
+
+def test_exercise_declaration_errors_name_the_bad_value():
+    kw = dict(points=1, title="", statement="", answer="a", parameters=lambda r: {},
+              reference=lambda p: 1)
+    with pytest.raises(ValueError, match="'Bad Id'"):
+        Exercise(id="Bad Id", kind="number", **kw)
+    with pytest.raises(ValueError, match="'vector'"):
+        Exercise(id="t.x", kind="vector", **kw)
+    with pytest.raises(ValueError, match="needs cases"):
+        Exercise(id="t.x", kind="function", **kw)
+    assert Mistake("t", "m", lambda p: None).tag == "t"
+    assert FunctionOutputs((1.0,)).error is None
+
+
+def test_formula_string_answers():
+    pytest.importorskip("photolib.symcheck")
+    ex = Exercise(id="t.formula", points=1, title="", statement="", kind="expression",
+                  answer="f", symbols=("h", "c"), parameters=lambda rng: {},
+                  reference=lambda p: sp.Symbol("h") / sp.Symbol("c"))
+    assert judge(ex, Params(), "h/c").correct
+    assert judge(ex, Params(), "1/(c/h)").correct
+    assert judge(ex, Params(), "c/h").status == "wrong"
