@@ -1,5 +1,5 @@
 # generated from photolib/derive/collinearity.py, do not edit
-# source sha256: 392208bc293528b62de67158dda5c9d99fd4a85102940464782aa4ba08205feb
+# source sha256: 80b3a32012c70ad6250216cfd21a93515ee743f46922d414c02319329fd5a0c7
 # regenerate with: python -m photolib codegen   (SymPy 1.14)
 """NumPy code generated from :mod:`photolib.derive.collinearity`."""
 

@@ -1,5 +1,5 @@
 # generated from photolib/derive/distortion.py, do not edit
-# source sha256: 490456a858d2f26ccc32b6aec817e189c77646bf7f883100db9ef77611053bea
+# source sha256: 239132190bbfbb2ad8387d01a335537340c77fc45b52ed67b7da34e43dc6bece
 # regenerate with: python -m photolib codegen   (SymPy 1.14)
 """NumPy code generated from :mod:`photolib.derive.distortion`."""
 

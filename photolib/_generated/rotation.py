@@ -1,5 +1,5 @@
 # generated from photolib/derive/rotation.py, do not edit
-# source sha256: af479d432d1d8b2138a4adc68b276e17ffbba3b3c955bf51a0575c95ef6118ed
+# source sha256: 9eae4653e8da412c4d2894472751fcc0ff6273ec19ca499a4376b5509944711c
 # regenerate with: python -m photolib codegen   (SymPy 1.14)
 """NumPy code generated from :mod:`photolib.derive.rotation`."""
 

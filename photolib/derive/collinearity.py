@@ -20,6 +20,8 @@ Derivation (docs/conventions.md):
 
 from __future__ import annotations
 
+import functools
+
 import sympy as sp
 
 from photolib.derive._spec import GeneratedFunction
@@ -116,20 +118,31 @@ def _jacobian_outputs():
                  for i, axis in enumerate(("x", "y")))
 
 
-CODEGEN = (
-    GeneratedFunction(
-        name="project_r",
-        args=(X, Y, Z, X0, Y0, Z0, *r, c, x0, y0),
-        outputs=_projection_outputs(),
-        doc="Ideal image coordinates x', y' (image unit, e.g. mm) and the depth N = r13·ΔX + "
-            "r23·ΔY + r33·ΔZ (object unit; N < 0 in front) for a general R given by its "
-            "elements r11..r33.",
-    ),
-    GeneratedFunction(
-        name="collinearity_jacobian_opk",
-        args=(X, Y, Z, X0, Y0, Z0, omega, phi, kappa, c),
-        outputs=_jacobian_outputs(),
-        doc="∂x'/∂p and ∂y'/∂p for p in (X0, Y0, Z0, ω, φ, κ, X, Y, Z), R = R_ω·R_φ·R_κ; "
-            "image unit per object unit for lengths, image unit per radian for angles.",
-    ),
-)
+@functools.cache
+def codegen_functions() -> tuple:
+    """The functions to generate (built on first use: the Jacobians take a second to derive)."""
+    return (
+        GeneratedFunction(
+            name="project_r",
+            args=(X, Y, Z, X0, Y0, Z0, *r, c, x0, y0),
+            outputs=_projection_outputs(),
+            doc="Ideal image coordinates x', y' (image unit, e.g. mm) and the depth N = r13·ΔX + "
+                "r23·ΔY + r33·ΔZ (object unit; N < 0 in front) for a general R given by its "
+                "elements r11..r33.",
+        ),
+        GeneratedFunction(
+            name="collinearity_jacobian_opk",
+            args=(X, Y, Z, X0, Y0, Z0, omega, phi, kappa, c),
+            outputs=_jacobian_outputs(),
+            doc="∂x'/∂p and ∂y'/∂p for p in (X0, Y0, Z0, ω, φ, κ, X, Y, Z), R = R_ω·R_φ·R_κ; "
+                "image unit per object unit for lengths, image unit per radian for angles.",
+        ),
+    )
+
+
+def __getattr__(name):
+    # ``CODEGEN`` is computed lazily so that importing this module (e.g. in a chapter
+    # notebook) does not pay for deriving every Jacobian
+    if name == "CODEGEN":
+        return codegen_functions()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -11,6 +11,8 @@ exactly. So the signs of the sines follow from the right-hand rule, not from a t
 
 from __future__ import annotations
 
+import functools
+
 import sympy as sp
 
 from photolib.derive._spec import GeneratedFunction
@@ -88,17 +90,28 @@ def _elements(M: sp.Matrix, prefix: str):
     return tuple((f"{prefix}{i + 1}{j + 1}", M[i, j]) for i in range(3) for j in range(3))
 
 
-CODEGEN = (
-    GeneratedFunction(
-        name="rotation_opk_elements",
-        args=(omega, phi, kappa),
-        outputs=_elements(rotation_opk(), "r"),
-        doc="Elements r11..r33 (row-major) of R = R_ω·R_φ·R_κ; angles in radians.",
-    ),
-    GeneratedFunction(
-        name="rotation_pok_elements",
-        args=(omega, phi, kappa),
-        outputs=_elements(rotation_pok(), "r"),
-        doc="Elements r11..r33 (row-major) of R = R_φ·R_ω·R_κ; angles in radians.",
-    ),
-)
+@functools.cache
+def codegen_functions() -> tuple:
+    """The functions to generate (built on first use: the Jacobians take a second to derive)."""
+    return (
+        GeneratedFunction(
+            name="rotation_opk_elements",
+            args=(omega, phi, kappa),
+            outputs=_elements(rotation_opk(), "r"),
+            doc="Elements r11..r33 (row-major) of R = R_ω·R_φ·R_κ; angles in radians.",
+        ),
+        GeneratedFunction(
+            name="rotation_pok_elements",
+            args=(omega, phi, kappa),
+            outputs=_elements(rotation_pok(), "r"),
+            doc="Elements r11..r33 (row-major) of R = R_φ·R_ω·R_κ; angles in radians.",
+        ),
+    )
+
+
+def __getattr__(name):
+    # ``CODEGEN`` is computed lazily so that importing this module (e.g. in a chapter
+    # notebook) does not pay for deriving every Jacobian
+    if name == "CODEGEN":
+        return codegen_functions()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
