@@ -21,12 +21,14 @@ and the kernel runs with what remains: see ``docs/instructors.md``.
 
 from __future__ import annotations
 
+import fcntl
 import functools
 import os
 import shutil
 import signal
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 from dataclasses import dataclass, field
@@ -115,7 +117,11 @@ def sandbox_support() -> SandboxSupport:
 
 
 class UidPool:
-    """Hand out user ids for kernels, one per running kernel.
+    """Hand out user ids for kernels, one per running kernel, across grader processes.
+
+    An id is taken by holding an exclusive ``flock`` on ``LOCK_DIR/<uid>.lock``; the lock dies
+    with the process that holds it, so two graders on one machine never share an id and a
+    crashed grader's ids come free. Leftover processes of an id are killed on acquiring it.
 
     Parameters
     ----------
@@ -126,18 +132,54 @@ class UidPool:
     """
 
     def __init__(self, first: int = 61000, size: int = 512):
-        self._free = list(range(first, first + size))
+        self.ids = range(first, first + size)
+        self._held: dict[int, int] = {}
         self._lock = threading.Lock()
+
+    @staticmethod
+    def _lock_dir() -> Path:
+        path = Path(tempfile.gettempdir()) / "photolib-grading-uids"
+        path.mkdir(mode=0o700, exist_ok=True)
+        return path
+
+    def _try(self, uid: int) -> int | None:
+        fd = os.open(self._lock_dir() / f"{uid}.lock", os.O_CREAT | os.O_RDWR, 0o600)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            os.close(fd)
+            return None
+        return fd
 
     def acquire(self) -> int:
         with self._lock:
-            if not self._free:
-                raise RuntimeError("UidPool exhausted: too many kernels at once")
-            return self._free.pop(0)
+            for uid in self.ids:
+                if uid in self._held:
+                    continue
+                fd = self._try(uid)
+                if fd is not None:
+                    self._held[uid] = fd
+                    kill_user(uid)
+                    return uid
+        raise RuntimeError(f"all {len(self.ids)} sandbox user ids are in use")
 
     def release(self, uid: int) -> None:
         with self._lock:
-            self._free.append(uid)
+            fd = self._held.pop(uid, None)
+        if fd is not None:
+            os.close(fd)
+
+    def orphans(self) -> list[int]:
+        """Processes of pool ids that no grader holds (should always be empty)."""
+        found = []
+        for uid in self.ids:
+            pids = _processes_of(uid) if uid not in self._held else []
+            if pids:
+                fd = self._try(uid)
+                if fd is not None:
+                    os.close(fd)
+                    found += pids
+        return found
 
 
 _POOL = UidPool()

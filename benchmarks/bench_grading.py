@@ -1,0 +1,89 @@
+"""Grading throughput: sandboxed grading versus plain nbclient execution of the same notebooks.
+
+Builds a batch of course-style submissions from the demo master (different student ids,
+some answers wrong), then
+
+1. runs each with plain ``nbclient`` (no sandbox, no judging), ``--jobs`` at a time;
+2. grades them with :func:`photolib.grading.batch.grade_batch`.
+
+Prints submissions per second of both and the ratio (grading time / plain time).
+Run: ``.venv/bin/python benchmarks/bench_grading.py [--n 24] [--jobs 2]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import copy
+import os
+import sys
+import tempfile
+import time
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+import nbformat  # noqa: E402
+
+from photolib.grading.batch import grade_batch  # noqa: E402
+from photolib.grading.sandbox import Limits  # noqa: E402
+
+
+def make_batch(folder: Path, n: int) -> list[Path]:
+    master = nbformat.read(ROOT / "solutions" / "00-grading-demo.ipynb", as_version=4)
+    paths = []
+    for i in range(n):
+        nb = copy.deepcopy(master)
+        for cell in nb.cells:
+            if "student-id" in cell.get("metadata", {}).get("tags", []):
+                cell.source = f'STUDENT_ID = "s{1000 + i}"'
+            if i % 3 == 1 and "answer:demo.image-scale" in cell.metadata.get("tags", []):
+                cell.source = cell.source.replace("/ 1000.0", "")
+        path = folder / f"s{1000 + i}-00-grading-demo.ipynb"
+        nbformat.write(nb, path)
+        paths.append(path)
+    return paths
+
+
+def plain(paths, jobs: int) -> float:
+    from nbclient import NotebookClient
+
+    def run(path):
+        nb = nbformat.read(path, as_version=4)
+        NotebookClient(nb, timeout=60, allow_errors=True,
+                       resources={"metadata": {"path": str(path.parent)}}).execute()
+
+    t0 = time.perf_counter()
+    with ThreadPoolExecutor(jobs) as ex:
+        list(ex.map(run, paths))
+    return time.perf_counter() - t0
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--n", type=int, default=24, help="submissions in the batch")
+    parser.add_argument("--jobs", type=int, default=2)
+    args = parser.parse_args(argv)
+    os.environ["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT),
+                                                             os.environ.get("PYTHONPATH")]))
+    with tempfile.TemporaryDirectory() as tmp:
+        paths = make_batch(Path(tmp), args.n)
+        t_plain = plain(paths, args.jobs)
+        t0 = time.perf_counter()
+        results = grade_batch(paths, Limits(timeout=60), jobs=args.jobs)
+        t_grade = time.perf_counter() - t0
+    bad = [r for r in results if r.status != "ok"]
+    print(f"submissions: {args.n}, jobs: {args.jobs}, cores: {os.cpu_count()}")
+    print(f"plain nbclient : {t_plain:6.2f} s  {args.n / t_plain:5.2f} submissions/s")
+    print(f"sandbox+judge  : {t_grade:6.2f} s  {args.n / t_grade:5.2f} submissions/s")
+    print(f"ratio grading/plain: {t_grade / t_plain:.2f} "
+          f"(overhead {100 * (t_grade / t_plain - 1):+.0f} %)")
+    if bad:
+        print(f"unexpected statuses: {[(r.submission, r.status) for r in bad]}")
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
