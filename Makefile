@@ -41,6 +41,7 @@ lab: $(VENV)/.course-installed
 		$(if $(filter 1 yes true,$(BROWSER)),,--no-browser)
 
 test: $(VENV)/.test-installed
+	$(BIN)/python -m ruff check photolib tests benchmarks
 	$(BIN)/python -m pytest -q -n $(JOBS) -m "not browser" tests photolib --doctest-modules
 	$(BIN)/python -m pytest -q -n $(JOBS) --dist loadfile --nbval --nbval-sanitize-with tests/nbval_sanitize.cfg \
 		notebooks/*.ipynb solutions/*.ipynb

@@ -190,7 +190,7 @@ def fit_circle(xy, *, refine: bool = True, tol: float = 1e-12, max_iter: int = 5
     radius = float(np.sqrt(max((D**2 + E**2 - A * F) / A**2, 0.0)))
     iterations = 0
     if refine and len(u) > 3:
-        for iterations in range(1, max_iter + 1):
+        for iterations in range(1, max_iter + 1):  # noqa: B007 - reported after the loop
             d = u - centre
             dist = np.linalg.norm(d, axis=1)
             if np.any(dist == 0.0):

@@ -63,7 +63,7 @@ def _ev43() -> Evidence:
 
 
 def _426_expr():
-    L1, L9, L10, L11 = dlt.Ls[0], dlt.Ls[8], dlt.Ls[9], dlt.Ls[10]
+    L1, L9 = dlt.Ls[0], dlt.Ls[8]
     return L_SYM * (col.x0 * L9 - L1) / dlt.cx
 
 
