@@ -4,64 +4,61 @@
 in :mod:`photolib.derive` with SymPy and generated as NumPy code into
 :mod:`photolib._generated`; the modules below wrap that code with shape checks,
 clear errors and the conventions of ``docs/conventions.md``.
+
+Every public name is importable from ``photolib`` directly; its module is loaded on first
+use (PEP 562), so ``import photolib`` costs little more than NumPy itself.
 """
 
 from __future__ import annotations
 
-from photolib.angles import deg2gon, deg2rad, gon2deg, gon2rad, rad2deg, rad2gon, wrap_angle
-from photolib.collinearity import PointBehindCameraError, collinearity_jacobian, monoplot, project
-from photolib.distortion import ConvergenceReport, Distortion, DistortionDivergenceError, OpenCVFit
-from photolib.dlt import DLTDecomposition, DLTEstimate, dlt_decompose, dlt_estimate, dlt_from_camera
-from photolib.measurement import (
-    CircleFit,
-    MomentThreshold,
-    fit_circle,
-    laplacian_of_gaussian,
-    moment_threshold,
-)
-from photolib.pixels import image_from_pixel, pixel_from_image
-from photolib.resection import ResectionResult, space_resection
-from photolib.rotations import (
-    GimbalLockError,
-    exterior_from_opencv_pose,
-    opencv_pose_from_exterior,
-    opk_from_rotation,
-    pok_from_rotation,
-    rotation_2d,
-    rotation_from_wolf_m,
-    rotation_opk,
-    rotation_pok,
-    wolf_m_from_rotation,
-)
+import importlib
 
-from photolib.transforms import (
-    AffineTransform,
-    BilinearTransform,
-    ComposedTransform,
-    ConvergenceError,
-    DegenerateGeometryError,
-    HelmertTransform,
-    NewtonInverse,
-    PolynomialTransform,
-    ProjectiveTransform,
-    cross_ratio,
-)
+import numpy as _np  # noqa: F401 - the one dependency, loaded up front
 
 __version__ = "0.1.0"
 
-__all__ = [
-    "ConvergenceReport", "Distortion", "DistortionDivergenceError", "GimbalLockError",
-    "OpenCVFit", "PointBehindCameraError", "collinearity_jacobian", "deg2gon", "deg2rad",
-    "exterior_from_opencv_pose", "gon2deg", "gon2rad", "image_from_pixel", "monoplot",
-    "opencv_pose_from_exterior", "opk_from_rotation", "pixel_from_image", "pok_from_rotation",
-    "project", "rad2deg", "rad2gon", "rotation_2d", "rotation_from_wolf_m", "rotation_opk",
-    "rotation_pok", "wolf_m_from_rotation", "wrap_angle",
+#: public name -> module that defines it
+_EXPORTS = {
+    # angles
+    "deg2gon": "angles", "deg2rad": "angles", "gon2deg": "angles", "gon2rad": "angles",
+    "rad2deg": "angles", "rad2gon": "angles", "wrap_angle": "angles",
+    # rotations
+    "GimbalLockError": "rotations", "exterior_from_opencv_pose": "rotations",
+    "opencv_pose_from_exterior": "rotations", "opk_from_rotation": "rotations",
+    "pok_from_rotation": "rotations", "rotation_2d": "rotations",
+    "rotation_from_wolf_m": "rotations", "rotation_opk": "rotations",
+    "rotation_pok": "rotations", "wolf_m_from_rotation": "rotations",
+    # collinearity, distortion, pixels
+    "PointBehindCameraError": "collinearity", "collinearity_jacobian": "collinearity",
+    "monoplot": "collinearity", "project": "collinearity",
+    "ConvergenceReport": "distortion", "Distortion": "distortion",
+    "DistortionDivergenceError": "distortion", "OpenCVFit": "distortion",
+    "image_from_pixel": "pixels", "pixel_from_image": "pixels",
     # plane transformations (Luhmann 2.18-2.21)
-    "AffineTransform", "BilinearTransform", "ComposedTransform", "ConvergenceError",
-    "DegenerateGeometryError", "HelmertTransform", "NewtonInverse", "PolynomialTransform",
-    "ProjectiveTransform", "cross_ratio",
+    "AffineTransform": "transforms", "BilinearTransform": "transforms",
+    "ComposedTransform": "transforms", "ConvergenceError": "transforms",
+    "DegenerateGeometryError": "transforms", "HelmertTransform": "transforms",
+    "NewtonInverse": "transforms", "PolynomialTransform": "transforms",
+    "ProjectiveTransform": "transforms", "cross_ratio": "transforms",
     # DLT, space resection, image measurement
-    "DLTDecomposition", "DLTEstimate", "dlt_decompose", "dlt_estimate", "dlt_from_camera",
-    "ResectionResult", "space_resection",
-    "CircleFit", "MomentThreshold", "fit_circle", "laplacian_of_gaussian", "moment_threshold",
-]
+    "DLTDecomposition": "dlt", "DLTEstimate": "dlt", "dlt_decompose": "dlt",
+    "dlt_estimate": "dlt", "dlt_from_camera": "dlt",
+    "ResectionResult": "resection", "space_resection": "resection",
+    "CircleFit": "measurement", "MomentThreshold": "measurement", "fit_circle": "measurement",
+    "laplacian_of_gaussian": "measurement", "moment_threshold": "measurement",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str):
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'photolib' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"photolib.{module}"), name)
+    globals()[name] = value  # later look-ups skip this function
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_EXPORTS))

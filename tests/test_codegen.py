@@ -82,14 +82,14 @@ def test_generated_function_equals_lambdify(module, fn):
 def test_import_photolib_is_numpy_only_and_fast():
     """``import photolib`` loads no SymPy/SciPy/OpenCV/matplotlib and takes ≤ 0.2 s in all.
 
-    Each run times NumPy's own import and then photolib's on top of it, in a fresh interpreter;
-    the best of seven runs is taken for each share, because a busy CI core (the other xdist
-    worker) is not what we measure.
+    Each run times NumPy's own import and then photolib's on top of it, in a fresh interpreter,
+    in CPU seconds of that interpreter (what the import costs, not how busy the other xdist
+    worker keeps the machine); the best of seven runs is taken for each share.
     """
-    code = ("import sys, time; t0 = time.perf_counter(); import numpy; t1 = time.perf_counter(); "
-            "import photolib; t2 = time.perf_counter(); "
+    code = ("import sys, time; c0 = time.process_time(); import numpy; c1 = time.process_time(); "
+            "import photolib; c2 = time.process_time(); "
             "bad = [m for m in ('sympy', 'matplotlib', 'scipy', 'cv2', 'mpmath', 'ipywidgets') "
-            "if m in sys.modules]; print(t1 - t0, t2 - t1, bad)")
+            "if m in sys.modules]; print(c1 - c0, c2 - c1, bad)")
     numpy_t, own_t = [], []
     for _ in range(7):
         out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
@@ -97,6 +97,16 @@ def test_import_photolib_is_numpy_only_and_fast():
         assert bad.strip() == "[]", f"import photolib pulled in {bad.strip()}"
         numpy_t.append(float(a))
         own_t.append(float(b))
-    assert min(own_t) <= 0.1, f"photolib's own import took {min(own_t):.3f} s > 0.1 s"
+    assert min(own_t) <= 0.05, f"photolib's own import took {min(own_t):.3f} s > 0.05 s"
     total = min(numpy_t) + min(own_t)
     assert total <= 0.2, f"import photolib took {total:.3f} s (NumPy {min(numpy_t):.3f} s) > 0.2 s"
+
+
+def test_every_public_name_resolves_lazily():
+    import photolib
+
+    for name in photolib.__all__:
+        obj = getattr(photolib, name)
+        assert obj is not None and name in dir(photolib)
+    with pytest.raises(AttributeError, match="no attribute 'rotation_zyx'"):
+        photolib.rotation_zyx  # noqa: B018 - the access is the test

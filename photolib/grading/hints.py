@@ -12,6 +12,8 @@ student's answer matches it, the hint is shown. Generic rules per answer kind ar
 
 from __future__ import annotations
 
+import importlib
+
 import math
 
 import numpy as np
@@ -116,7 +118,9 @@ def erratum_version(record_id: str, evaluate, version: str = "old"):
     """
     def wrong(params):
         try:
-            from photolib import errata
+            # import_module honours sys.modules (a package attribute left by an earlier
+            # import would not), so a missing catalogue really means no hint
+            errata = importlib.import_module("photolib.errata")
             expr = errata.get(record_id).versions[version]
         except Exception:  # noqa: BLE001 - no catalogue, no hint
             return None

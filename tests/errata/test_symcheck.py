@@ -51,10 +51,10 @@ def test_undecided_undefined_function_and_budget():
     assert equivalent(f(x), f(y)).kind == "undecided"
     big_a = sum(sp.cos(k * x) ** k * sp.sin(y) ** (k % 7) for k in range(1, 600))
     big_b = big_a + sp.sin(x + y) - sp.sin(x) * sp.cos(y) - sp.cos(x) * sp.sin(y)
-    t = time.monotonic()
+    t = time.process_time()  # the budget is CPU time: a loaded CI machine must not matter
     v = equivalent(big_a, big_b, time_budget=0.05, samples=50)
     assert v.kind == "undecided"
-    assert time.monotonic() - t < 5.0
+    assert time.process_time() - t < 5.0
 
 
 def test_bad_arguments():
