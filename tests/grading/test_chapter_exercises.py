@@ -11,12 +11,13 @@ import numpy as np
 import pytest
 
 from photolib.grading.encode import decode_value, encode_value
-from photolib.grading.exercises import ch04_rotations, chapter
+from photolib.grading.exercises import ch04_rotations, ch05_interior_orientation, chapter
 from photolib.grading.judge import judge
 from photolib.grading.notebook import function_outputs, parameters_for, reference_outputs
 from photolib.grading.variants import rng_for
 
-MODULES = {"04-rotations": ch04_rotations}
+MODULES = {"04-rotations": ch04_rotations,
+           "05-interior-orientation": ch05_interior_orientation}
 EXERCISES = [ex for module in MODULES.values() for ex in module.EXERCISES]
 STUDENTS = ("s1000001", "s1000002", "s1000003", "s2345678")
 
@@ -41,7 +42,7 @@ def test_modules_are_the_registered_chapters():
 
 def test_every_answer_kind_is_used():
     kinds = {ex.kind for ex in EXERCISES}
-    assert {"array", "rotation", "expression", "function"} <= kinds
+    assert {"number", "array", "rotation", "expression", "function"} <= kinds
 
 
 @pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
@@ -93,3 +94,14 @@ def test_hidden_inputs_differ_from_the_public_ones(ex):
 def test_untouched_answer_is_not_answered(ex):
     value = (lambda *args: ...) if ex.kind == "function" else ...
     assert _judge(ex, STUDENTS[0], value).status == "not-answered"
+
+
+@pytest.mark.parametrize("ex", [ex for ex in EXERCISES if ex.kind == "function"],
+                         ids=lambda ex: ex.id)
+def test_function_cases_are_scalar_arguments(ex):
+    # the batch grader sends each argument to the kernel as one float
+    params = parameters_for(ex, STUDENTS[0])
+    for purpose in ("public", "hidden"):
+        for case in ex.cases(rng_for(STUDENTS[0], ex.id, purpose), params):
+            assert all(np.ndim(arg) == 0 for arg in case)
+            assert [float(a) for a in case] == list(case)

@@ -1,0 +1,225 @@
+"""Chapter 05-interior-orientation: graded exercises on interior orientation and distortion.
+
+* ``io.field-angle`` (number): the half angle of view of a close-range camera;
+* ``io.radial-factor`` (expression): the radial distortion model written with SymPy;
+* ``io.image-vector`` (array): a measured point corrected into the image vector x*;
+* ``io.measured-position`` (function): where an ideal image point is measured (iteration).
+
+Course conventions (docs/conventions.md): c > 0, ``x* = (x' − x'0 − Δx', y' − y'0 − Δy', −c)``,
+``Δ = distorted − ideal`` evaluated at the **measured** point reduced to the principal point.
+The distortion-point hints recompute the answer with Δ evaluated at the ideal point instead.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from photolib.grading import hints
+from photolib.grading.exercises.ch04_rotations import plain_symbols
+from photolib.grading.spec import Exercise, Mistake
+
+CHAPTER = "05-interior-orientation"
+
+_DISTORTION_POINT = ("Δ was evaluated at the ideal point; the course evaluates Δ at the "
+                     "measured point reduced to the principal point")
+_SIGN_DISTORTION = "Δ = distorted − ideal: the ideal point is the measured one minus Δ"
+
+
+def _sig(value: float) -> float:
+    """``value`` rounded to four significant digits, as printed with ``:.3e``."""
+    return float(f"{value:.3e}")
+
+
+def _distortion(p, sign=1.0, balanced=True):
+    """The student's lens as a :class:`photolib.Distortion` (coefficients times ``sign``)."""
+    import photolib as pl
+    keys = ("A1", "A2", "B1", "B2")
+    coefficients = {k: sign * p[k] for k in keys if k in p}
+    return pl.Distortion(r0=p.get("r0", 0.0) if balanced else 0.0, **coefficients)
+
+
+# -- 1. half angle of view (number) -----------------------------------------------------------
+_FORMATS = ((6000, 4000), (8256, 5504), (4096, 3000), (5472, 3648), (7952, 5304), (2448, 2048))
+
+
+def _field_params(rng):
+    W, H = _FORMATS[int(rng.integers(len(_FORMATS)))]
+    return {"W": W, "H": H, "pixel_um": round(float(rng.uniform(2.0, 6.0)), 2),
+            "c_mm": round(float(rng.uniform(8.0, 50.0)), 3)}
+
+
+def _field_angle(p):
+    half_diagonal = math.hypot(p["W"], p["H"]) * p["pixel_um"] / 1000.0 / 2.0
+    return math.degrees(math.atan2(half_diagonal, p["c_mm"]))
+
+
+field_angle = Exercise(
+    id="io.field-angle", points=2, kind="number", answer="tau_deg",
+    title="Half angle of view (halber Bildwinkel)",
+    statement="A close-range camera has a sensor of {W} × {H} pixels of {pixel_um} µm "
+              "(Pixelgröße) and the camera constant c = {c_mm} mm (Kamerakonstante); the "
+              "principal point (Bildhauptpunkt) is at the centre of the format. Compute the "
+              "field angle τ (Feldwinkel) of a ray to a corner of the image format, i.e. the "
+              "half angle of view (halber Bildwinkel) over the diagonal, in degrees.",
+    parameters=_field_params, reference=_field_angle, rtol=0.0, atol=1e-6,
+    mistakes=(
+        hints.scaled_parameter(_field_angle, "pixel_um", 1000.0, "units-mm-m",
+                               "off by 1000 in the pixel size: µm versus mm?"),
+        hints.scaled_parameter(_field_angle, "pixel_um", 1e-3, "units-mm-m",
+                               "off by 1000 in the pixel size: µm versus mm?"),
+        Mistake("degrees", "this is in radians; the task asks for degrees",
+                lambda p: math.radians(_field_angle(p))),
+        Mistake("angle-of-view", "this is the full angle of view 2τ; τ is half of it",
+                lambda p: 2.0 * _field_angle(p)),
+        Mistake("diagonal", "the full diagonal was used; the corner is half a diagonal from "
+                            "the principal point",
+                lambda p: math.degrees(math.atan2(2 * math.tan(math.radians(_field_angle(p)))
+                                                  * p["c_mm"], p["c_mm"]))),
+        hints.sign_of(_field_angle, "c_mm"),
+    ))
+
+
+# -- 2. the radial distortion model with SymPy (expression) ------------------------------------
+_QUANTITIES = {"factor": "the radial factor Δr′/r as a function of r",
+               "dx": "the radial part Δx′ = x·Δr′/r as a function of x and y"}
+
+
+def _radial_params(rng):
+    terms = int(rng.integers(2, 4))
+    balanced = bool(rng.integers(2))
+    quantity = str(rng.choice(sorted(_QUANTITIES)))
+    return {"terms": terms, "balanced": balanced, "quantity": quantity,
+            "coefficients": ", ".join(f"A{i}" for i in range(1, terms + 1)),
+            "model": "balanced with the radius r0 (symbol r0) where Δr′ = 0"
+                     if balanced else "unbalanced (Seidel form, r0 = 0)",
+            "what": _QUANTITIES[quantity]}
+
+
+def _radial(p, balanced=None, divide=True):
+    import sympy as sp
+
+    from photolib.derive import distortion as dd
+    balanced = p["balanced"] if balanced is None else balanced
+    unused = {dd.A3: 0} if p["terms"] == 2 else {}
+    if not balanced:
+        unused[dd.r0] = 0
+    profile = dd.radial_profile(dd.rr).subs(unused)
+    value = sp.expand(profile / dd.rr) if divide else profile
+    if p["quantity"] == "dx":
+        value = dd.x * value.subs(dd.rr, sp.sqrt(dd.x**2 + dd.y**2))
+    return plain_symbols(sp.expand(value))
+
+
+radial_factor = Exercise(
+    id="io.radial-factor", points=2, kind="expression", answer="radial",
+    symbols=("r", "x", "y", "A1", "A2", "A3", "r0"),
+    title="Radial-symmetric distortion (radialsymmetrische Verzeichnung)",
+    statement="Write with SymPy {what}, for the radial-symmetric distortion with the "
+              "coefficients {coefficients}, {model}. Use the symbols r, x, y, A1, A2, A3, r0 "
+              "(sympy.symbols(...)).",
+    parameters=_radial_params, reference=_radial,
+    mistakes=(
+        Mistake("r0", "check the balancing radius: the balanced model is "
+                      "Δr′ = A1·r(r² − r0²) + A2·r(r⁴ − r0⁴) + …, the Seidel form has r0 = 0",
+                lambda p: _radial(p, balanced=not p["balanced"])),
+        Mistake("radial-factor", "this is Δr′ itself; the factor is Δr′/r "
+                                 "(and Δx′ = x·Δr′/r)", lambda p: _radial(p, divide=False)),
+    ))
+
+
+# -- 3. image vector of a measured point (array) ------------------------------------------------
+def _vector_params(rng):
+    sx, sy = rng.choice([-1.0, 1.0], size=2)
+    return {"c_mm": round(float(rng.uniform(8.0, 50.0)), 3),
+            "x0": round(float(rng.uniform(-0.15, 0.15)), 3),
+            "y0": round(float(rng.uniform(-0.15, 0.15)), 3),
+            "x": round(float(sx * rng.uniform(6.0, 11.5)), 3),
+            "y": round(float(sy * rng.uniform(4.0, 7.8)), 3),
+            "A1": _sig(-rng.uniform(0.5e-4, 1.5e-4)), "A2": _sig(rng.uniform(1e-8, 8e-8)),
+            "B1": _sig(rng.uniform(-8e-6, 8e-6)), "B2": _sig(rng.uniform(-8e-6, 8e-6))}
+
+
+def _reduced(p):
+    return np.array([p["x"] - p["x0"], p["y"] - p["y0"]])
+
+
+def _vector(p, ideal=None):
+    ideal = _distortion(p).correct(_reduced(p)) if ideal is None else ideal
+    return np.array([ideal[0], ideal[1], -p["c_mm"]])
+
+
+image_vector = Exercise(
+    id="io.image-vector", points=3, kind="array", answer="x_star",
+    title="Image vector of a measured point (Bildvektor)",
+    statement="A camera has the camera constant c = {c_mm} mm (Kamerakonstante), the principal "
+              "point (Bildhauptpunkt) x'0 = {x0} mm, y'0 = {y0} mm and the distortion "
+              "(Verzeichnung) A1 = {A1:.3e} mm⁻², A2 = {A2:.3e} mm⁻⁴ (r0 = 0), B1 = {B1:.3e} mm⁻¹, "
+              "B2 = {B2:.3e} mm⁻¹. A point is measured at x' = {x} mm, y' = {y} mm. Give its "
+              "image vector x* = (x' − x'0 − Δx', y' − y'0 − Δy', −c) in mm as a NumPy array.",
+    parameters=_vector_params, reference=_vector, rtol=0.0, atol=1e-6,
+    mistakes=(
+        Mistake("distortion-point", _DISTORTION_POINT,
+                lambda p: _vector(p, _distortion(p, sign=-1.0).distort(_reduced(p)))),
+        Mistake("distortion-point", "Δ must be evaluated at the measured point reduced to the "
+                                    "principal point, (x' − x'0, y' − y'0)",
+                lambda p: _vector(p, _reduced(p) - _distortion(p).delta(
+                    np.array([p["x"], p["y"]])))),
+        Mistake("sign-distortion", _SIGN_DISTORTION,
+                lambda p: _vector(p, _reduced(p) + _distortion(p).delta(_reduced(p)))),
+        hints.sign_of(_vector, "c_mm"),
+    ))
+
+
+# -- 4. measured position of an ideal point (function) -----------------------------------------
+def _lens_params(rng):
+    return {"A1": _sig(-rng.uniform(0.5e-4, 1.5e-4)), "A2": _sig(rng.uniform(1e-8, 6e-8)),
+            "r0": round(float(rng.uniform(8.0, 12.0)), 1)}
+
+
+def _lens_function(solve):
+    """``wrong(params)``: a function ``(x, y) -> (2,)`` applying ``solve(params, xy)``."""
+    def make(p):
+        def measured_position(x, y):
+            return solve(p, np.array([x, y], float))
+        return measured_position
+    return make
+
+
+def _measured(p, xy):
+    return _distortion(p).distort(xy, method="newton", tol=1e-12)
+
+
+def _lens_cases(rng, p):
+    # the grader sends scalar arguments only (batch converts each to float)
+    return [(round(float(rng.uniform(-12.0, 12.0)), 3), round(float(rng.uniform(-8.0, 8.0)), 3))
+            for _ in range(8)]
+
+
+measured_position = Exercise(
+    id="io.measured-position", points=3, kind="function", answer="measured_position",
+    title="Where is an ideal point measured? (Iteration der Verzeichnung)",
+    statement="Your lens has the balanced radial distortion (Verzeichnung) A1 = {A1:.3e} mm⁻², "
+              "A2 = {A2:.3e} mm⁻⁴, r0 = {r0} mm. Write measured_position(x, y) that takes ideal "
+              "image coordinates reduced to the principal point (x, y in mm) and returns where "
+              "this point is measured, as a NumPy array (x_m, y_m) in mm, to 1e-6 mm. "
+              "Remember that Δ is evaluated at the measured point. It is tested on points you "
+              "do not see.",
+    parameters=_lens_params, reference=_lens_function(_measured), cases=_lens_cases,
+    rtol=0.0, atol=1e-6,
+    mistakes=(
+        Mistake("distortion-point", _DISTORTION_POINT + ": iterate x ← x_ideal + Δ(x)",
+                _lens_function(lambda p, xy: xy + _distortion(p).delta(xy))),
+        Mistake("direction", "this corrects a measured point; here the ideal point is given and "
+                             "the measured one is wanted",
+                _lens_function(lambda p, xy: _distortion(p).correct(xy))),
+        Mistake("sign-distortion", _SIGN_DISTORTION,
+                _lens_function(lambda p, xy: _distortion(p, sign=-1.0).distort(xy, tol=1e-12))),
+        Mistake("r0", "the balancing radius r0 is missing: Δr′ = A1·r(r² − r0²) + A2·r(r⁴ − r0⁴)",
+                _lens_function(lambda p, xy: _distortion(p, balanced=False).distort(
+                    xy, tol=1e-12))),
+    ))
+
+
+EXERCISES = (field_angle, radial_factor, image_vector, measured_position)
