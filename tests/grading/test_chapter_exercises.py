@@ -11,13 +11,15 @@ import numpy as np
 import pytest
 
 from photolib.grading.encode import decode_value, encode_value
-from photolib.grading.exercises import ch04_rotations, ch05_interior_orientation, chapter
+from photolib.grading.exercises import (ch04_rotations, ch05_interior_orientation,
+                                        ch06_collinearity, chapter)
 from photolib.grading.judge import judge
 from photolib.grading.notebook import function_outputs, parameters_for, reference_outputs
 from photolib.grading.variants import rng_for
 
 MODULES = {"04-rotations": ch04_rotations,
-           "05-interior-orientation": ch05_interior_orientation}
+           "05-interior-orientation": ch05_interior_orientation,
+           "06-collinearity": ch06_collinearity}
 EXERCISES = [ex for module in MODULES.values() for ex in module.EXERCISES]
 STUDENTS = ("s1000001", "s1000002", "s1000003", "s2345678")
 
