@@ -33,7 +33,8 @@ def test_assign_check_mode(tmp_path):
     assert assign_main(["--source", str(ROOT / "solutions"), "--dest", str(tmp_path),
                         "--check"]) == 1
     assert not list(tmp_path.iterdir())
-    assert assign_folder(ROOT / "solutions", tmp_path) == [tmp_path / "00-grading-demo.ipynb"]
+    written = assign_folder(ROOT / "solutions", tmp_path)
+    assert written == [tmp_path / f"{name}.ipynb" for name in sorted(chapters())]
     assert assign_main(["--source", str(ROOT / "solutions"), "--dest", str(tmp_path),
                         "--check"]) == 0
 

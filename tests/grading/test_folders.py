@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-import multiprocessing
+import pickle
+import subprocess
+import sys
 
 import pytest
 
-from photolib.grading.batch import grade_batch
 from photolib.grading.exercises import chapters
-from photolib.grading.sandbox import Limits
 
 from .conftest import ROOT
 
@@ -16,21 +16,25 @@ MASTERS = sorted(p for p in (ROOT / "solutions").glob("*.ipynb") if p.stem in ch
 COPIES = sorted(p for p in (ROOT / "exercises").glob("*.ipynb") if p.stem in chapters())
 
 
-def _grade_in_subprocess(paths, queue):
-    results = grade_batch(paths, Limits(timeout=60), jobs=2)
-    queue.put({r.submission: r for r in results})
+_GRADE = """
+import pickle, sys
+from photolib.grading.batch import grade_batch
+from photolib.grading.sandbox import Limits
+results = grade_batch(sys.argv[2:], Limits(timeout=60), jobs=2)
+with open(sys.argv[1], "wb") as f:
+    pickle.dump({r.submission: r for r in results}, f)
+"""
 
 
 @pytest.fixture(scope="module")
-def graded():
+def graded(tmp_path_factory):
     # the grader runs in a process of its own, as an instructor runs it
-    ctx = multiprocessing.get_context("spawn")
-    queue = ctx.Queue()
-    proc = ctx.Process(target=_grade_in_subprocess, args=(MASTERS + COPIES, queue))
-    proc.start()
-    results = queue.get(timeout=240)
-    proc.join(timeout=30)
-    return results
+    out = tmp_path_factory.mktemp("folders") / "graded.pickle"
+    proc = subprocess.run([sys.executable, "-c", _GRADE, str(out), *map(str, MASTERS + COPIES)],
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    with open(out, "rb") as f:
+        return pickle.load(f)
 
 
 @pytest.mark.parametrize("path", MASTERS, ids=lambda p: p.name)
