@@ -21,7 +21,13 @@ import nbformat
 from photolib.grading.encode import NOT_ANSWERED
 from photolib.grading.exercises import chapter as chapter_exercises
 from photolib.grading.exercises import chapters
-from photolib.grading.extract import ExtractionError, build_extraction, parse_extraction
+from photolib.grading.extract import (
+    ExtractionError,
+    build_extraction,
+    case_from_json,
+    case_to_json,
+    parse_extraction,
+)
 from photolib.grading.judge import Judgement, judge
 from photolib.grading.notebook import parameters_for, reference_outputs
 from photolib.grading.sandbox import Limits, SandboxedKernel
@@ -251,7 +257,7 @@ def grade_submission(path, pool: KernelPool, limits: Limits) -> Graded:
             cases = None
             if ex.kind == "function":
                 p = parameters_for(ex, sid or "")
-                cases = [list(map(float, c)) for c in ex.cases(rng_for(sid or "", ex.id,
+                cases = [case_to_json(c) for c in ex.cases(rng_for(sid or "", ex.id,
                                                                        "hidden"), p)]
                 params[ex.id] = (p, cases)
             requests.append({"name": ex.answer, "cases": cases})
@@ -274,7 +280,7 @@ def grade_submission(path, pool: KernelPool, limits: Limits) -> Graded:
     judgements = []
     for ex in exercises:
         p, cases = params.get(ex.id, (parameters_for(ex, sid or ""), None))
-        outputs_of = reference_outputs([tuple(c) for c in cases]) if cases else None
+        outputs_of = reference_outputs([case_from_json(c) for c in cases]) if cases else None
         answer = answers.get(ex.id, NOT_ANSWERED)
         if tampered:
             answer = NOT_ANSWERED

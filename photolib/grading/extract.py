@@ -15,12 +15,15 @@ import inspect
 import json
 import secrets
 
+import numpy as np
+
 from photolib.grading import encode
 from photolib.grading.encode import NOT_ANSWERED, DecodeError, Unsupported, decode_value
 from photolib.grading.judge import FunctionOutputs
 from photolib.grading.sandbox import RESULT_MIME
 
-__all__ = ["ExtractionError", "build_extraction", "parse_extraction"]
+__all__ = ["ExtractionError", "build_extraction", "case_from_json", "case_to_json",
+           "parse_extraction"]
 
 CALL_SECONDS = 5.0
 
@@ -35,7 +38,9 @@ def build_extraction(requests: list[dict]) -> tuple[str, str]:
     Parameters
     ----------
     requests : list of dict
-        ``{"name": variable, "cases": None or list of argument lists}`` per exercise.
+        ``{"name": variable, "cases": None or list of argument lists}`` per exercise, the
+    arguments as :func:`case_to_json` writes them (numbers, or ``{"array": nested list}``
+    which the kernel turns back into a float ``numpy`` array).
     """
     nonce = secrets.token_hex(16)
     source = "\n".join([inspect.getsource(encode.encode_value), inspect.getsource(encode._tree)])
@@ -66,6 +71,10 @@ def _photolib_extract_{nonce}():
         _signal.signal(_signal.SIGALRM, _alarm)
         for _args in _r["cases"]:
             try:
+                if any(isinstance(_a, dict) for _a in _args):
+                    import numpy as _np
+                    _args = [_np.array(_a["array"], dtype=float) if isinstance(_a, dict)
+                             else _a for _a in _args]
                 _signal.setitimer(_signal.ITIMER_REAL, {CALL_SECONDS})
                 try:
                     _res = _value(*_args)
@@ -84,6 +93,26 @@ _photolib_extract_{nonce}()
 del _photolib_extract_{nonce}
 '''
     return code, nonce
+
+
+def case_to_json(args) -> list:
+    """One function case as JSON data: scalars become floats, arrays ``{"array": list}``.
+
+    >>> case_to_json((1, [[0.5, 2]]))
+    [1.0, {'array': [[0.5, 2.0]]}]
+    """
+    out = []
+    for a in args:
+        arr = np.asarray(a, dtype=float)
+        if not np.all(np.isfinite(arr)):
+            raise ValueError(f"a function case must be finite, got {a!r}")
+        out.append(float(arr) if arr.ndim == 0 else {"array": arr.tolist()})
+    return out
+
+
+def case_from_json(args) -> tuple:
+    """Inverse of :func:`case_to_json`: the arguments the reference function is called with."""
+    return tuple(np.array(a["array"], dtype=float) if isinstance(a, dict) else a for a in args)
 
 
 def _indent(source: str) -> str:

@@ -82,6 +82,24 @@ def _numbers_match(answer, expected, rtol, atol) -> bool:
     return bool(np.all(np.abs(a - e) <= atol + rtol * np.abs(e)))
 
 
+def plain_symbols(expr):
+    """``expr`` with every symbol replaced by an assumption-free symbol of the same name.
+
+    Answers reach the judge as JSON trees whose symbols carry no assumptions
+    (:mod:`photolib.grading.encode`), so the judge compares both sides by symbol *name*: a
+    reference built with ``Symbol("omega", real=True)`` matches a student's ``omega``.
+
+    >>> import sympy as sp
+    >>> plain_symbols(sp.Symbol("w", real=True) + 1) == sp.Symbol("w") + 1
+    True
+    """
+    import sympy as sp
+    if not isinstance(expr, (sp.Basic, sp.MatrixBase)):
+        return expr
+    return expr.xreplace({s: sp.Symbol(s.name) for s in expr.free_symbols
+                          if isinstance(s, sp.Symbol) and s.assumptions0})
+
+
 def _expression_verdict(answer, expected) -> str:
     """Verdict kind of ``answer == expected`` from :mod:`photolib.symcheck` when present."""
     import sympy as sp
@@ -147,7 +165,7 @@ def compare(exercise, answer, expected, params) -> tuple[bool, str]:
             return False, f"expected a SymPy expression, got {_describe(answer)}"
         if isinstance(answer, float):
             answer = sp.Float(answer)
-        verdict = _expression_verdict(answer, expected)
+        verdict = _expression_verdict(plain_symbols(answer), plain_symbols(expected))
         if verdict == "undecided":
             return False, "equivalence could not be decided; the instructor will look at it"
         return verdict in ("equal", "equal-under-condition"), ""

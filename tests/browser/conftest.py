@@ -37,9 +37,20 @@ def _get(url: str, timeout: float = 5.0) -> int:
 
 
 @pytest.fixture(scope="session")
-def lab_url(tmp_path_factory):
+def lab_root(tmp_path_factory) -> Path:
+    return tmp_path_factory.mktemp("lab")
+
+
+@pytest.fixture(scope="session")
+def lab_log(lab_root) -> Path:
+    """The JupyterLab server's log (quoted when a browser test fails)."""
+    return lab_root / "jupyter.log"
+
+
+@pytest.fixture(scope="session")
+def lab_url(lab_root, lab_log):
     """Start JupyterLab on a copy of the notebooks; yield its base URL."""
-    root = tmp_path_factory.mktemp("lab")
+    root = lab_root
     shutil.copytree(REPO / "notebooks", root / "notebooks")
     # cells outside the viewport are not in the DOM under JupyterLab 4's default
     # windowing; render them all so that every widget can be found and moved
@@ -47,11 +58,11 @@ def lab_url(tmp_path_factory):
     settings.mkdir(parents=True)
     (settings / "tracker.jupyterlab-settings").write_text('{"windowingMode": "none"}')
     port = _free_port()
-    log = open(root / "jupyter.log", "w")  # noqa: SIM115 - lives as long as the server
+    log = open(lab_log, "w")  # noqa: SIM115 - lives as long as the server
     proc = subprocess.Popen(
         [sys.executable, "-m", "jupyter", "lab", "--no-browser", "--ServerApp.ip=127.0.0.1",
          f"--ServerApp.port={port}", "--ServerApp.port_retries=0",
-         "--IdentityProvider.token=", "--ServerApp.password=",
+         "--IdentityProvider.token=", "--ServerApp.password=", "--ServerApp.disable_check_xsrf=True",
          f"--ServerApp.root_dir={root}", f"--LabApp.user_settings_dir={root / 'settings'}",
          f"--LabApp.workspaces_dir={root / 'workspaces'}", "--LabApp.expose_app_in_browser=True",
          "--LabApp.news_url=", "--LabApp.check_for_updates_class=jupyterlab.NeverCheckForUpdate"]
@@ -68,7 +79,7 @@ def lab_url(tmp_path_factory):
                 pass
             if proc.poll() is not None or time.monotonic() > deadline:
                 log.flush()
-                pytest.fail("JupyterLab did not start:\n" + (root / "jupyter.log").read_text()[-3000:])
+                pytest.fail("JupyterLab did not start:\n" + lab_log.read_text()[-3000:])
             time.sleep(0.5)
         yield url
     finally:
@@ -102,11 +113,22 @@ def artifacts() -> Path:
     return ARTIFACTS
 
 
+def _shutdown_kernels(url: str) -> None:
+    """Delete every session (and its kernel), so chapters do not pile up kernels."""
+    import json
+    with urllib.request.urlopen(f"{url}/api/sessions", timeout=10) as response:
+        sessions = json.load(response)
+    for s in sessions:
+        req = urllib.request.Request(f"{url}/api/sessions/{s['id']}", method="DELETE")
+        urllib.request.urlopen(req, timeout=30).close()
+
+
 @pytest.fixture
-def page(browser):
+def page(browser, lab_url):
     context = browser.new_context(viewport={"width": 1400, "height": 1000})
     p = context.new_page()
     try:
         yield p
     finally:
         context.close()
+        _shutdown_kernels(lab_url)

@@ -216,3 +216,57 @@ def test_formula_string_answers():
     assert judge(ex, Params(), "h/c").correct
     assert judge(ex, Params(), "1/(c/h)").correct
     assert judge(ex, Params(), "c/h").status == "wrong"
+
+
+def test_extraction_passes_array_cases_as_arrays(monkeypatch):
+    """A function exercise may take arrays: the kernel sees float arrays, the grader too."""
+    import IPython.display
+
+    from photolib.grading.extract import (
+        build_extraction,
+        case_from_json,
+        case_to_json,
+        parse_extraction,
+    )
+    from photolib.grading.sandbox import RESULT_MIME
+
+    cases = [(2.0, np.array([[1.0, 2.0], [3.0, 4.0]])), (0.5, [1, 2, 3])]
+    sent = [case_to_json(c) for c in cases]
+    assert sent[0] == [2.0, {"array": [[1.0, 2.0], [3.0, 4.0]]}]
+    with pytest.raises(ValueError, match="finite"):
+        case_to_json((np.nan,))
+    code, nonce = build_extraction([{"name": "scaled_norm", "cases": sent}])
+    published = []
+    monkeypatch.setattr(IPython.display, "publish_display_data",
+                        lambda data: published.append({"data": data}))
+
+    def scaled_norm(s, xy):  # fails on a list: xy.shape exists only for arrays
+        assert isinstance(xy, np.ndarray) and xy.dtype == float, type(xy)
+        return s * np.linalg.norm(xy.reshape(-1, xy.shape[-1]), axis=1)
+
+    namespace = {"get_ipython": lambda: type("Shell", (), {"user_ns": {
+        "scaled_norm": scaled_norm, "STUDENT_ID": "s1"}})()}
+    exec(code, namespace)  # noqa: S102 - the grader's own generated code
+    ex = Exercise(id="t.norm", points=1, title="t", kind="function", answer="scaled_norm",
+                  statement="", parameters=lambda rng: {}, cases=lambda rng, p: cases,
+                  reference=lambda p: lambda s, xy: s * np.linalg.norm(
+                      np.asarray(xy, float).reshape(-1, np.shape(xy)[-1]), axis=1))
+    payloads = [d["data"][RESULT_MIME] for d in published]
+    sid, answers = parse_extraction(payloads, nonce, [ex])
+    assert sid == "s1" and answers["t.norm"].error is None
+    verdict = judge(ex, Params({}), answers["t.norm"],
+                    reference_outputs([case_from_json(c) for c in sent]))
+    assert verdict.correct, verdict.message
+
+
+def test_expression_references_with_assumptions_match_plain_answers():
+    """Answers arrive without assumptions; a reference with real=True must still match."""
+    w = sp.Symbol("omega", real=True)
+    ex = Exercise(id="t.sin", points=1, title="t", kind="expression", answer="e",
+                  statement="", parameters=lambda rng: {},
+                  reference=lambda p: sp.Matrix([[sp.sin(w) ** 2 + sp.cos(w)], [w]]))
+    plain = sp.Symbol("omega")
+    answer = decode_value(encode_value(sp.Matrix([[1 - sp.cos(plain) ** 2 + sp.cos(plain)],
+                                                  [plain]])))
+    assert judge(ex, Params({}), answer).correct
+    assert not judge(ex, Params({}), sp.Matrix([[sp.cos(plain)], [plain]])).correct

@@ -19,22 +19,13 @@ import math
 import numpy as np
 
 from photolib.grading import hints
+from photolib.grading.judge import plain_symbols
 from photolib.grading.spec import Exercise, Mistake, Params
 
 CHAPTER = "04-rotations"
 
 _ORDER_MESSAGE = ("this is the φ-ω-κ product R_φ·R_ω·R_κ; the course's order is "
                   "R = R_ω·R_φ·R_κ (primary axis X)")
-
-
-def plain_symbols(expr):
-    """``expr`` with every symbol replaced by an assumption-free symbol of the same name.
-
-    Answers reach the judge as JSON trees whose symbols carry no assumptions
-    (:mod:`photolib.grading.encode`), so symbolic references must use plain symbols too.
-    """
-    import sympy as sp
-    return expr.xreplace({s: sp.Symbol(s.name) for s in expr.free_symbols})
 
 
 def scaled_parameters(reference, names, factor: float, tag: str, message: str | None = None):

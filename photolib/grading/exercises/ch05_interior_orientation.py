@@ -17,7 +17,7 @@ import math
 import numpy as np
 
 from photolib.grading import hints
-from photolib.grading.exercises.ch04_rotations import plain_symbols
+from photolib.grading.judge import plain_symbols
 from photolib.grading.spec import Exercise, Mistake
 
 CHAPTER = "05-interior-orientation"

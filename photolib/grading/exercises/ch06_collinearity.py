@@ -18,7 +18,8 @@ import math
 import numpy as np
 
 from photolib.grading import hints
-from photolib.grading.exercises.ch04_rotations import plain_symbols, scaled_parameters
+from photolib.grading.exercises.ch04_rotations import scaled_parameters
+from photolib.grading.judge import plain_symbols
 from photolib.grading.spec import Exercise, Mistake
 
 CHAPTER = "06-collinearity"
