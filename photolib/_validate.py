@@ -23,6 +23,22 @@ def as_points(values, dim: int, name: str) -> tuple[np.ndarray, bool]:
     return arr, single
 
 
+def as_point_pairs(a, b, dims: tuple[int, int], names: tuple[str, str], min_points: int,
+                   what: str, unit: str = "points") -> tuple[np.ndarray, np.ndarray]:
+    """Validated point arrays ``a`` (N, dims[0]) and ``b`` (N, dims[1]) with equal N ≥ ``min_points``.
+
+    ``what`` names the caller in the message about too few points, ``unit`` what is counted.
+    """
+    a, _ = as_points(a, dims[0], names[0])
+    b, _ = as_points(b, dims[1], names[1])
+    if len(a) != len(b):
+        raise ValueError(f"{names[0]} has {len(a)} points but {names[1]} has {len(b)}; "
+                         "they must pair up")
+    if len(a) < min_points:
+        raise ValueError(f"{what} needs at least {min_points} {unit}, got {len(a)}")
+    return a, b
+
+
 def check_finite(arr: np.ndarray, name: str) -> None:
     """Raise ``ValueError`` naming the first NaN/inf entry of ``arr``."""
     if not np.all(np.isfinite(arr)):

@@ -35,7 +35,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from photolib._validate import as_points, as_rotation, as_scalar, as_vector3, check_finite
+from photolib._validate import as_point_pairs, as_rotation, as_scalar, as_vector3, check_finite
 from photolib.rotations import GimbalLockError, opk_from_rotation
 
 __all__ = ["DLTDecomposition", "DLTEstimate", "dlt_decompose", "dlt_estimate", "dlt_from_camera"]
@@ -124,12 +124,7 @@ def dlt_estimate(X, xy) -> DLTEstimate:
     >>> bool(est.sigma0 < 1e-9), est.redundancy
     (True, 3)
     """
-    X, _ = as_points(X, 3, "X")
-    xy, _ = as_points(xy, 2, "xy")
-    if len(X) != len(xy):
-        raise ValueError(f"X has {len(X)} points but xy has {len(xy)}; they must pair up")
-    if len(X) < 6:
-        raise ValueError(f"dlt_estimate needs at least 6 points, got {len(X)}")
+    X, xy = as_point_pairs(X, xy, (3, 2), ("X", "xy"), 6, "dlt_estimate")
     sv = np.linalg.svd(X - X.mean(axis=0), compute_uv=False)
     if sv[2] <= 1e-9 * sv[0]:
         raise ValueError("the object points are coplanar (or collinear); the 11 DLT parameters are "

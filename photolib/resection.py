@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from photolib._validate import as_points, as_scalar
+from photolib._validate import as_point_pairs, as_scalar
 from photolib.collinearity import PointBehindCameraError, collinearity_jacobian, project
 from photolib.distortion import Distortion
 from photolib.dlt import dlt_decompose, dlt_estimate
@@ -112,12 +112,7 @@ def space_resection(X, xy, c, x0=0.0, y0=0.0, distortion=None, initial=None, *,
     >>> np.round(res.X0, 9).tolist(), round(res.kappa, 12), res.converged
     ([4.0, 6.0, 30.0], 0.2, True)
     """
-    X, _ = as_points(X, 3, "X")
-    xy, _ = as_points(xy, 2, "xy")
-    if len(X) != len(xy):
-        raise ValueError(f"X has {len(X)} points but xy has {len(xy)}; they must pair up")
-    if len(X) < 3:
-        raise ValueError(f"space_resection needs at least 3 points, got {len(X)}")
+    X, xy = as_point_pairs(X, xy, (3, 2), ("X", "xy"), 3, "space_resection")
     c = as_scalar(c, "c", positive=True)
     x0, y0 = as_scalar(x0, "x0"), as_scalar(y0, "y0")
     if distortion is not None and not isinstance(distortion, Distortion):

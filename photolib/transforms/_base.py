@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from photolib._validate import as_points
+from photolib._validate import as_point_pairs, as_points
 
 __all__ = [
     "ComposedTransform",
@@ -52,13 +52,7 @@ def collinearity_ratio(points: np.ndarray) -> float:
 
 def check_pairs(src, dst, min_points: int, name: str):
     """Validated ``(src, dst)`` arrays of shape (N, 2) with equal N ≥ ``min_points``."""
-    src, _ = as_points(src, 2, "src")
-    dst, _ = as_points(dst, 2, "dst")
-    if len(src) != len(dst):
-        raise ValueError(f"src has {len(src)} points but dst has {len(dst)}; they must pair up")
-    if len(src) < min_points:
-        raise ValueError(f"{name} needs at least {min_points} point pairs, got {len(src)}")
-    return src, dst
+    return as_point_pairs(src, dst, (2, 2), ("src", "dst"), min_points, name, "point pairs")
 
 
 class PlaneTransform:
