@@ -9,6 +9,7 @@ IP     ?= 127.0.0.1
 # Headless by default: set BROWSER=1 to let JupyterLab open a browser tab.
 BROWSER ?= 0
 # Empty token: JupyterLab listens on 127.0.0.1 only and answers /lab without login.
+# As root (containers, CI) JupyterLab needs --allow-root, which the lab target adds.
 TOKEN  ?=
 JOBS   ?= 2
 
@@ -38,7 +39,8 @@ lab: $(VENV)/.course-installed
 		--ServerApp.ip=$(IP) --ServerApp.port=$(PORT) --ServerApp.port_retries=0 \
 		--ServerApp.root_dir=$(CURDIR) \
 		--IdentityProvider.token='$(TOKEN)' --ServerApp.password='' \
-		$(if $(filter 1 yes true,$(BROWSER)),,--no-browser)
+		$(if $(filter 1 yes true,$(BROWSER)),,--no-browser) \
+		$(if $(filter 0,$(shell id -u)),--allow-root)
 
 test: $(VENV)/.test-installed
 	$(BIN)/python -m ruff check photolib tests benchmarks

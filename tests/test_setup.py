@@ -1,0 +1,73 @@
+"""``make lab`` serves JupyterLab: HTTP 200 on ``/lab`` and on the start page."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _status(url: str) -> int | None:
+    try:
+        with urllib.request.urlopen(url, timeout=5) as response:
+            return response.status
+    except OSError:
+        return None
+
+
+@pytest.mark.timeout(120)
+@pytest.mark.skipif(shutil.which("make") is None, reason="make is not installed")
+def test_make_lab_serves_jupyterlab(tmp_path):
+    venv = Path(sys.prefix)
+    if not (venv / "bin" / "python").exists() or not (ROOT / "Makefile").exists():
+        pytest.skip("not running from the project's virtual environment")
+    # the same target a student runs, in this test's environment; stamps keep it from
+    # reinstalling (make test wrote them)
+    port = _free_port()
+    log = tmp_path / "lab.log"
+    env = {**os.environ, "JUPYTER_RUNTIME_DIR": str(tmp_path / "runtime"),
+           "JUPYTER_CONFIG_DIR": str(tmp_path / "config")}
+    with open(log, "w") as out:
+        proc = subprocess.Popen(["make", "-s", "-C", str(ROOT), "lab", f"PORT={port}",
+                                 f"VENV={venv}"], stdout=out, stderr=subprocess.STDOUT,
+                                env=env, start_new_session=True)
+    try:
+        deadline = time.monotonic() + 90
+        while _status(f"http://127.0.0.1:{port}/lab") != 200:
+            if proc.poll() is not None or time.monotonic() > deadline:
+                pytest.fail(f"make lab did not answer on /lab:\n{log.read_text()[-3000:]}")
+            time.sleep(0.5)
+        assert _status(f"http://127.0.0.1:{port}/lab/tree/notebooks/00-start.ipynb") == 200
+        assert _status(f"http://127.0.0.1:{port}/api/contents/notebooks/00-start.ipynb") == 200
+    finally:
+        _stop(proc)
+
+
+def _stop(proc: subprocess.Popen) -> None:
+    """End make and the JupyterLab server it started (one process group)."""
+    for sig in (signal.SIGTERM, signal.SIGKILL):
+        try:
+            os.killpg(proc.pid, sig)
+        except ProcessLookupError:
+            return
+        try:
+            proc.wait(timeout=20)
+            return
+        except subprocess.TimeoutExpired:
+            continue
