@@ -44,7 +44,7 @@ class ConvergenceReport:
     converged : bool
         Every point's last step was below ``tol``.
     iterations : int
-        Iterations used by the slowest point.
+        Iterations used by the slowest point (each point stops at its own last step).
     max_step : float
         Largest last step over all points (image unit).
     history : tuple of float
@@ -251,7 +251,8 @@ class Distortion:
             fixed point: ``x ← x_ideal + Δ(x)`` (Luhmann p. 163/164; linear, converges
             only where ‖∂Δ/∂x‖ < 1).
         tol : float
-            Stop when every point's step is below ``tol`` (mm).
+            A point stops iterating when its own step is below ``tol`` (mm); Newton's error
+            after a step ``s`` is about ``C·s²``, far below ``tol``.
         max_iter : int
             Iteration limit; not converging by then raises.
         return_report : bool
@@ -287,13 +288,18 @@ class Distortion:
         n = len(pts)
         out = np.empty_like(pts)
         steps = np.zeros(n)
+        # Newton only: det and trace of I − ∂Δ/∂x at each point's last iterate, for the fold check
+        det_last = np.empty(n) if method == "newton" else None
+        trace_last = np.empty(n) if method == "newton" else None
         history = np.zeros(int(max_iter))
         iterations = 0
-        # blocks of contiguous x and y keep every temporary in the CPU cache; all points of a
-        # block iterate together (Newton converges quadratically, so they finish together)
+        tol2 = tol * tol
+        # blocks of contiguous x and y keep every temporary in the CPU cache; within a block a
+        # point leaves the iteration as soon as its own step is below tol (active set)
         for s in range(0, n, _BLOCK):
-            ix = np.ascontiguousarray(pts[s:s + _BLOCK, 0])
-            iy = np.ascontiguousarray(pts[s:s + _BLOCK, 1])
+            idx = np.arange(s, min(s + _BLOCK, n))
+            ix = np.ascontiguousarray(pts[idx, 0])
+            iy = np.ascontiguousarray(pts[idx, 1])
             if method == "newton":  # start from one fixed-point step: x ≈ x_ideal + Δ(x_ideal)
                 dx, dy = distortion_delta(ix, iy, *args)
                 xa, ya = ix + dx, iy + dy
@@ -322,19 +328,30 @@ class Distortion:
                 if not np.isfinite(smax) or smax > 1e12:
                     step = np.sqrt(step2)
                     bad = ~np.isfinite(step) | (step > 1e12)
-                    i = s + int(np.argmax(bad))
+                    i = int(idx[np.argmax(bad)])
                     rep = ConvergenceReport(method, False, it, float("inf"),
                                             tuple(history[:it].tolist()))
                     raise DistortionDivergenceError(
                         f"{method} iteration diverged at point {i} (ideal {pts[i].tolist()}) after "
                         f"{it} iterations; the distortion is not invertible there "
                         "(outside the calibrated format?)", rep, i)
-                if smax < tol:
-                    break
+                done = step2 < tol2
+                last = it == int(max_iter)
+                if last or done.all():
+                    done = np.ones(len(idx), bool)
+                if done.any():
+                    j = idx[done]
+                    out[j, 0] = xa[done]
+                    out[j, 1] = ya[done]
+                    steps[j] = np.sqrt(step2[done])
+                    if method == "newton":
+                        det_last[j] = det[done]
+                        trace_last[j] = (j11 + j22)[done]
+                    if done.all():
+                        break
+                    keep = ~done
+                    idx, ix, iy, xa, ya = idx[keep], ix[keep], iy[keep], xa[keep], ya[keep]
             iterations = max(iterations, it)
-            out[s:s + _BLOCK, 0] = xa
-            out[s:s + _BLOCK, 1] = ya
-            steps[s:s + _BLOCK] = np.sqrt(step2)
         history = tuple(history[:iterations].tolist())
         x = out
         report = ConvergenceReport(method, bool(np.all(steps < tol)), iterations,
@@ -346,20 +363,28 @@ class Distortion:
                 f"within max_iter={max_iter} (first: point {i}, ideal {pts[i].tolist()}, last step "
                 f"{steps[i]:.3g} > tol={tol:g})", report, i)
         # a root beyond the fold of x − Δ(x) solves the equation but is not
-        # the measured point: it lies on the mirrored sheet, e.g. on the other side of the centre
-        _, _, a, b, c, d = distortion_delta_and_jacobian(x[:, 0], x[:, 1], *args)
-        it = iterations
-        # valid sheet (connected to the centre, where I − ∂Δ/∂x = I): both eigenvalues of
-        # I − ∂Δ/∂x keep a positive real part ⇔ det > 0 and trace > 0
-        det = (1.0 - a) * (1.0 - d) - b * c
-        folded = np.broadcast_to((det <= 0.0) | ((1.0 - a) + (1.0 - d) <= 0.0), (len(x),))
+        # the measured point: it lies on the mirrored sheet, e.g. on the other side of the centre.
+        # Valid sheet (connected to the centre, where I − ∂Δ/∂x = I): both eigenvalues of
+        # I − ∂Δ/∂x keep a positive real part ⇔ det > 0 and trace > 0. Newton has them at the
+        # last iterate, within tol of the result; near the fold (or after fixed-point
+        # iteration) they are evaluated at the result itself.
+        if method == "newton":
+            near = (det_last <= 0.05) | (trace_last <= 0.05)
+        else:
+            near = np.ones(n, bool)
+            det_last, trace_last = np.empty(n), np.empty(n)
+        if near.any():
+            _, _, a, b, c, d = distortion_delta_and_jacobian(x[near, 0], x[near, 1], *args)
+            det_last[near] = (1.0 - a) * (1.0 - d) - b * c
+            trace_last[near] = (1.0 - a) + (1.0 - d)
+        folded = (det_last <= 0.0) | (trace_last <= 0.0)
         if folded.any():
             i = int(np.argmax(folded))
             raise DistortionDivergenceError(
                 f"{method} iteration for point {i} (ideal {pts[i].tolist()}) reached a root beyond "
                 f"the fold of x − Δ(x) at {x[i].round(6).tolist()} (I − ∂Δ/∂x not positive there): this ideal "
                 "point has no measured position on the valid sheet of the distortion model",
-                ConvergenceReport(method, False, it, float(np.max(steps)), tuple(history)), i)
+                ConvergenceReport(method, False, iterations, float(np.max(steps)), history), i)
         out = x[0] if single else x
         return (out, report) if return_report else out
 

@@ -96,6 +96,30 @@ def test_divergence_raises_with_the_point():
         d.distort(ideal, "newton", max_iter=30)
 
 
+@pytest.mark.parametrize("method", ["newton", "fixed-point"])
+def test_each_point_iterates_on_its_own(method):
+    """Points leave the iteration at their own step: a result does not depend on the batch,
+    and every point's residual is within what its own tolerance promises."""
+    d = pl.Distortion(**STRONG)
+    rng = np.random.default_rng(7)
+    ideal = rng.uniform(-12, 12, (5000, 2))  # more than one block of 4096
+    batch, rep = d.distort(ideal, method, tol=1e-9, return_report=True)
+    alone = np.array([d.distort(p, method, tol=1e-9) for p in ideal[::97]])
+    np.testing.assert_array_equal(batch[::97], alone)
+    assert rep.converged and rep.max_step < 1e-9
+    assert np.max(np.abs(d.correct(batch) - ideal)) < 1e-8
+
+
+def test_fold_check_at_the_result_not_the_last_iterate():
+    # a point on the valid sheet close to the fold: det(I − ∂Δ/∂x) small but positive
+    d = pl.Distortion(A1=1e-3)
+    r_fold = 1 / np.sqrt(3e-3)  # d/dr (r − A1 r³) = 0
+    x = 0.98 * r_fold  # det = 1 − 3·A1·x² = 0.04: checked again at the result
+    ideal = [[x - 1e-3 * x**3, 0.0]]
+    m = d.distort(ideal, tol=1e-12)
+    np.testing.assert_allclose(m, [[x, 0.0]], rtol=1e-9)
+
+
 def test_jacobians_against_finite_differences():
     d = pl.Distortion(**STRONG)
     xy = np.random.default_rng(4).uniform(-15, 15, (10, 2))
