@@ -21,7 +21,7 @@ def main() -> int:
         if hasattr(mod, "run"):
             mod.run()
         elif hasattr(mod, "main"):
-            mod.main()
+            mod.main([])  # defaults; sys.argv names the benchmarks here
         print(flush=True)
     return 0
 

@@ -39,8 +39,8 @@ def build_extraction(requests: list[dict]) -> tuple[str, str]:
     ----------
     requests : list of dict
         ``{"name": variable, "cases": None or list of argument lists}`` per exercise, the
-    arguments as :func:`case_to_json` writes them (numbers, or ``{"array": nested list}``
-    which the kernel turns back into a float ``numpy`` array).
+        arguments as :func:`case_to_json` writes them (numbers, or ``{"array": nested list}``
+        which the kernel turns back into a float ``numpy`` array).
     """
     nonce = secrets.token_hex(16)
     source = "\n".join([inspect.getsource(encode.encode_value), inspect.getsource(encode._tree)])

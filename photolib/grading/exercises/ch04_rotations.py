@@ -19,7 +19,6 @@ import math
 import numpy as np
 
 from photolib.grading import hints
-from photolib.grading.judge import plain_symbols
 from photolib.grading.spec import Exercise, Mistake, Params
 
 CHAPTER = "04-rotations"
@@ -160,7 +159,7 @@ def _derivative(p, order="opk", sense=1):
         R = R.xreplace({t: -t})
     if p["matrix"] == "M":
         R = R.T
-    return plain_symbols(R.diff(t))
+    return R.diff(t)
 
 
 def _derivative_order(p):

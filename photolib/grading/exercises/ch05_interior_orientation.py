@@ -17,7 +17,6 @@ import math
 import numpy as np
 
 from photolib.grading import hints
-from photolib.grading.judge import plain_symbols
 from photolib.grading.spec import Exercise, Mistake
 
 CHAPTER = "05-interior-orientation"
@@ -109,7 +108,7 @@ def _radial(p, balanced=None, divide=True):
     value = sp.expand(profile / dd.rr) if divide else profile
     if p["quantity"] == "dx":
         value = dd.x * value.subs(dd.rr, sp.sqrt(dd.x**2 + dd.y**2))
-    return plain_symbols(sp.expand(value))
+    return sp.expand(value)
 
 
 radial_factor = Exercise(

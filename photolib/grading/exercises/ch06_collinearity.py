@@ -19,7 +19,6 @@ import numpy as np
 
 from photolib.grading import hints
 from photolib.grading.exercises.ch04_rotations import scaled_parameters
-from photolib.grading.judge import plain_symbols
 from photolib.grading.spec import Exercise, Mistake
 
 CHAPTER = "06-collinearity"
@@ -116,7 +115,7 @@ def _partial(p, transpose=False, c_sign=1, numerator_only=False):
         value = (xs if p["coordinate"] == "x" else ys).diff(t)
     if c_sign < 0:
         value = value.xreplace({dc.c: -dc.c})
-    return plain_symbols(value)
+    return value
 
 
 partial_derivative = Exercise(
