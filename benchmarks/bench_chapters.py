@@ -2,7 +2,7 @@
 
 Target: each chapter at most 2.5 × the floor, measured in the same run. The floor
 notebook does what every chapter must do anyway: start a kernel, import NumPy, SymPy,
-matplotlib and ipywidgets, and draw one figure.
+matplotlib and ipywidgets, and draw one figure. Both are the best of two runs.
 """
 
 from __future__ import annotations
@@ -45,7 +45,7 @@ def run() -> int:
     ok = True
     for name in CHAPTERS:
         nb = nbformat.read(ROOT / "notebooks" / f"{name}.ipynb", as_version=4)
-        seconds = _execute(nb)
+        seconds = min(_execute(nb) for _ in range(2))  # best of two, like the floor
         ratio = seconds / floor
         ok &= ratio <= FACTOR
         print(f"{name:26s} {seconds:6.2f} s = {ratio:4.2f} × floor "
