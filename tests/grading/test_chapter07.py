@@ -1,0 +1,195 @@
+"""The exercises of chapter 07, judged in this process by calling the registry directly.
+
+As ``test_chapter_exercises.py`` does for 04-06: the reference answer is accepted, the wrong
+answer of every declared mistake is recognised with that mistake's hint, students get
+different variants, functions are judged on hidden inputs and an untouched answer is not
+answered. The references themselves are checked against independent routes (closed forms
+and the library's cross ratio) below.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from photolib.grading.encode import decode_value, encode_value
+from photolib.grading.exercises import ch07_plane_transformations as ch07
+from photolib.grading.exercises import chapter
+from photolib.grading.judge import judge
+from photolib.grading.notebook import function_outputs, parameters_for, reference_outputs
+from photolib.grading.variants import rng_for
+
+EXERCISES = ch07.EXERCISES
+STUDENTS = ("s1000001", "s1000002", "s1000003", "s2345678")
+
+
+def _judge(ex, sid, value):
+    params = parameters_for(ex, sid)
+    if ex.kind == "function":
+        cases = ex.cases(rng_for(sid, ex.id, "hidden"), params)
+        return judge(ex, params, function_outputs(value, cases), reference_outputs(cases))
+    return judge(ex, params, decode_value(encode_value(value)))
+
+
+def _by_id(exercise_id):
+    return next(ex for ex in EXERCISES if ex.id == exercise_id)
+
+
+def test_module_is_the_registered_chapter():
+    assert ch07.CHAPTER == "07-plane-transformations"
+    assert chapter(ch07.CHAPTER) == EXERCISES
+    kinds = {ex.kind for ex in EXERCISES}
+    assert {"number", "array", "expression", "function"} <= kinds
+    assert len({ex.id for ex in EXERCISES}) == len(EXERCISES) >= 4
+
+
+@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
+@pytest.mark.parametrize("sid", STUDENTS[:2])
+def test_reference_is_accepted(ex, sid):
+    verdict = _judge(ex, sid, ex.reference(parameters_for(ex, sid)))
+    assert verdict.status == "correct", verdict.message
+    assert verdict.points == ex.points
+
+
+@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
+def test_each_mistake_is_recognised_with_its_hint(ex):
+    assert ex.mistakes, f"{ex.id} declares no mistakes"
+    for index, mistake in enumerate(ex.mistakes):
+        applied = 0
+        for sid in STUDENTS:
+            wrong = mistake.wrong(parameters_for(ex, sid))
+            if wrong is None:
+                continue
+            applied += 1
+            verdict = _judge(ex, sid, wrong)
+            assert verdict.status == "wrong", (ex.id, index, sid)
+            assert verdict.mistake == mistake.tag, (ex.id, index, sid, verdict.message)
+            assert verdict.message == f"not correct: {mistake.message}", (ex.id, index, sid)
+        assert applied, f"{ex.id}: mistake {index} ({mistake.tag}) never applies"
+
+
+def test_the_quadrant_mistake_applies_to_some_student():
+    ex = _by_id("plane.helmert-angle")
+    applied = [sid for sid in (f"s{i}" for i in range(40))
+               if ex.mistakes[2].wrong(parameters_for(ex, sid)) is not None]
+    assert applied
+
+
+@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
+def test_students_get_different_variants(ex):
+    a, b = (parameters_for(ex, sid) for sid in STUDENTS[:2])
+    if a == b:  # a variant drawn from few options: some pair of students must differ
+        b = next(parameters_for(ex, s) for s in (f"s{i}" for i in range(50))
+                 if parameters_for(ex, s) != a)
+    assert a != b
+    assert ex.statement.format(**a) != ex.statement.format(**b)
+    assert parameters_for(ex, STUDENTS[0]) == parameters_for(ex, STUDENTS[0])
+
+
+@pytest.mark.parametrize("ex", [ex for ex in EXERCISES if ex.kind == "function"],
+                         ids=lambda ex: ex.id)
+def test_functions_are_judged_on_hidden_inputs(ex):
+    params = parameters_for(ex, STUDENTS[0])
+    public = ex.cases(rng_for(STUDENTS[0], ex.id, "public"), params)
+    hidden = ex.cases(rng_for(STUDENTS[0], ex.id, "hidden"), params)
+    assert len(public) == len(hidden) >= 3
+    assert public != hidden
+    for purpose in ("public", "hidden"):
+        for case in ex.cases(rng_for(STUDENTS[0], ex.id, purpose), params):
+            assert all(np.ndim(arg) == 0 for arg in case)
+    # a function right on the public inputs only is not accepted
+    ref = ex.reference(params)
+    public_set = {tuple(c) for c in public}
+
+    def cheat(x, y):
+        out = ref(x, y)
+        return out if (float(x), float(y)) in public_set else out + 1.0
+    assert _judge(ex, STUDENTS[0], cheat).status == "wrong"
+
+
+@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
+def test_untouched_answer_is_not_answered(ex):
+    value = (lambda *args: ...) if ex.kind == "function" else ...
+    assert _judge(ex, STUDENTS[0], value).status == "not-answered"
+
+
+# -- the references, by independent routes -------------------------------------------------
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_helmert_reference_by_complex_numbers(sid):
+    # X + iY = (a0 + i b0) + (a1 + i b1)(x + i y): two points determine it directly
+    p = parameters_for(_by_id("plane.helmert-two-points"), sid)
+    z = [complex(*q) for q in p["src"]]
+    w = [complex(*q) for q in p["dst"]]
+    k = (w[1] - w[0]) / (z[1] - z[0])
+    t = w[0] - k * z[0]
+    expected = [t.real, t.imag, k.real, k.imag]
+    np.testing.assert_allclose(ch07._helmert_reference(p), expected, rtol=0, atol=1e-7)
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_helmert_angle_reference_by_complex_argument(sid):
+    p = parameters_for(_by_id("plane.helmert-angle"), sid)
+    alpha = np.angle(complex(p["a1"], p["b1"])) % (2 * math.pi)
+    assert math.isclose(ch07._angle_gon(p), alpha * 200 / math.pi, abs_tol=1e-9)
+    assert 0.0 <= ch07._angle_gon(p) < 400.0
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_projective_reference_by_dlt_null_space(sid):
+    # homography from the 4 point pairs as the null vector of the 8×9 DLT matrix
+    p = parameters_for(_by_id("plane.projective-point"), sid)
+    rows = []
+    for (x, y), (X, Y) in zip(p["img"], p["obj"]):
+        rows.append([x, y, 1, 0, 0, 0, -X * x, -X * y, -X])
+        rows.append([0, 0, 0, x, y, 1, -Y * x, -Y * y, -Y])
+    h = np.linalg.svd(np.array(rows))[2][-1].reshape(3, 3)
+    v = h @ [*p["P"], 1.0]
+    np.testing.assert_allclose(ch07._projective_reference(p), v[:2] / v[2], atol=1e-7)
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_cross_ratio_reference_keeps_the_library_cross_ratio(sid):
+    from photolib.transforms import cross_ratio
+    p = parameters_for(_by_id("plane.cross-ratio"), sid)
+    s_D = ch07._cross_reference(p)
+    assert s_D > p["sC"]
+    assert math.isclose(cross_ratio(0.0, p["sB"], p["sC"], s_D),
+                        cross_ratio(p["a"], p["b"], p["c"], p["d"]), rel_tol=1e-12)
+
+
+@pytest.mark.parametrize("point", ["A", "B", "C", "D"])
+def test_solved_cross_ratio_reproduces_lambda(point):
+    import sympy as sp
+    sol = ch07._solved_reference({"point": point})
+    values = dict(zip(sp.symbols("t_A t_B t_C t_D"), (0.3, 1.7, 4.1, 9.2)))
+    lam = ((1.7 - 0.3) * (9.2 - 4.1)) / ((4.1 - 1.7) * (9.2 - 0.3))
+    names = {s.name: s for s in sol.free_symbols}
+    subs = {names[s.name]: v for s, v in values.items() if s.name in names}
+    subs[names["lam"]] = lam
+    assert f"t_{point}" not in names
+    assert math.isclose(float(sol.subs(subs)), values[sp.Symbol(f"t_{point}")], rel_tol=1e-12)
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_fiducial_reference_by_normal_equations(sid):
+    p = parameters_for(_by_id("plane.fiducial-affine"), sid)
+    pix, cal = np.array(p["pix"]), np.array(p["cal"])
+    A = np.column_stack([np.ones(4), pix])
+    N = A.T @ A
+    coef = np.linalg.solve(N, A.T @ cal)          # (3, 2): x' and y' columns
+    expected = np.array([1.0, *p["P"]]) @ coef
+    np.testing.assert_allclose(ch07._fiducial_reference(p), expected, atol=1e-7)
+    # and the result is a point inside the format, in mm
+    assert np.all(np.abs(expected) < 110.0)
+
+
+def test_bilinear_printed_hint_repeats_the_x_coefficient():
+    p = parameters_for(_by_id("plane.bilinear-function"), STUDENTS[0])
+    wrong = ch07._printed.wrong(p)
+    x, y = 120.0, 340.0
+    X, Y = wrong(x, y)
+    assert math.isclose(X, p["a0"] + p["a1"] * x + p["a2"] * y + p["a3"] * x * y)
+    assert math.isclose(Y, p["b0"] + p["b1"] * x + p["b2"] * y + p["b1"] * x * y)

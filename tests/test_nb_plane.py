@@ -1,0 +1,165 @@
+"""Chapter 07 notebook helpers: widget callbacks called directly, figures, the façade scene."""
+
+from __future__ import annotations
+
+import time
+
+import matplotlib
+import numpy as np
+import pytest
+
+matplotlib.use("Agg")
+
+from photolib.nb import plane  # noqa: E402
+from photolib.transforms import AffineTransform, HelmertTransform, ProjectiveTransform  # noqa: E402
+
+
+def _moves(explorer, name, value):
+    before_png, before_html = explorer.live.png, explorer.html.value
+    explorer.controls[name].value = value
+    return explorer.live.png != before_png, explorer.html.value != before_html
+
+
+# -- projective explorer ----------------------------------------------------------------------
+
+@pytest.mark.parametrize("params, kind", [
+    ({}, "Helmert"),
+    ({"a1": 0.8, "a2": -0.6, "b1": 0.6, "b2": 0.8, "a0": 0.3}, "Helmert"),
+    ({"a1": 1.2, "b2": 0.7}, "affine"),
+    ({"a2": 0.3}, "affine"),
+    ({"c2": -0.2}, "projective"),
+])
+def test_projective_report_names_the_smallest_family(params, kind):
+    rep = plane.projective_report(**params)
+    assert rep["kind"] == kind
+    assert kind in rep["html"]
+    assert (rep["horizon"] is None) == (kind != "projective")
+
+
+def test_projective_report_lines_are_the_mapped_grid():
+    params = {"a0": 0.2, "a1": 1.1, "a2": 0.3, "b0": -0.1, "b1": 0.2, "b2": 0.9, "c1": 0.2,
+              "c2": -0.1}
+    rep = plane.projective_report(**params)
+    for src, out in zip(plane.square_grid(), rep["lines"]):
+        # independent route: the homogeneous matrix H·(x, y, 1), divided by the third row
+        H = np.array([[1.1, 0.3, 0.2], [0.2, 0.9, -0.1], [0.2, -0.1, 1.0]])
+        h = np.column_stack([src, np.ones(len(src))]) @ H.T
+        np.testing.assert_allclose(out, h[:, :2] / h[:, 2:], atol=1e-12)
+
+
+def test_projective_horizon_is_where_the_denominator_vanishes():
+    rep = plane.projective_report(c1=0.3, c2=-0.2)
+    for x, y in rep["horizon"]:
+        assert abs(1 + 0.3 * x - 0.2 * y) < 1e-12
+
+
+def test_points_beyond_the_vanishing_line_are_not_drawn():
+    rep = plane.projective_report(c1=1.5)  # 1 + 1.5x ≤ 0 for x ≤ −2/3, inside the square
+    flat = np.concatenate(rep["lines"])
+    assert np.isnan(flat).any() and np.isfinite(flat).any()
+
+
+def test_projective_explorer_updates_figure_and_text():
+    e = plane.ProjectiveExplorer()
+    assert e.live.output.outputs[0]["data"]["image/png"]
+    assert "projective" in e.html.value
+    assert _moves(e, "c1", 0.0) == (True, True)
+    assert e.report["kind"] == "Helmert"
+    assert _moves(e, "a1", 1.5) == (True, True)
+    assert e.report["kind"] == "affine"
+    assert repr(e.widget) == "[widget: projective transformation explorer]"
+    assert "photolib-explorer" in e.widget._dom_classes
+
+
+# -- the façade and its rectification -------------------------------------------------------
+
+def test_facade_texture_windows_door_and_outside():
+    g = plane.facade_texture([[1.4, 1.6], [0.5, 0.5], [4.0, 0.5], [-0.1, 3.0], [4.0, 6.5]])
+    assert g.tolist() == [50.0, 155.0, 90.0, 0.0, 0.0]
+
+
+def test_control_points_project_onto_the_facade_image():
+    obj, pix = plane.control_points(noise_px=0.0)
+    img = plane.facade_image()
+    # the façade corners are imaged where the photograph has its corners (8, 112), (152, 98), …
+    np.testing.assert_allclose(pix[:4], [[8, 112], [152, 98], [150, 18], [6, 4]], atol=0.01)
+    # a window centre is dark in the photograph, the wall beside it bright
+    t = ProjectiveTransform.from_estimate(obj, pix)
+    c, r = np.round(t([1.45, 1.65])).astype(int)
+    assert img[r, c] < 80
+    c, r = np.round(t([0.5, 3.0])).astype(int)
+    assert img[r, c] > 140
+
+
+def test_rectification_report_ranks_the_models():
+    rep = plane.rectification_report()
+    s = {name: f.sigma0 for name, f in rep["fits"].items()}
+    assert s["projective"] < 0.03 < s["bilinear"] < s["affine"] < s["Helmert"]
+    assert rep["rectified"].shape == (48, 64)
+    assert "σ0" in rep["html"]
+    # the projective rectification puts a window where the façade has one
+    d = 8.0 / 63
+    col, row = round(1.45 / d), round((6.0 - 1.65) / d)
+    assert rep["rectified"][row, col] < 80
+
+
+def test_moving_a_control_point_shows_in_the_residuals():
+    quiet = plane.rectification_report()
+    blunder = plane.rectification_report(dcol=8.0, drow=-4.0)
+    assert blunder["fits"]["projective"].sigma0 > 5 * quiet["fits"]["projective"].sigma0
+    assert np.argmax(np.hypot(*blunder["residuals"].T)) == 4
+    np.testing.assert_allclose(blunder["pix"][4] - quiet["pix"][4], [8.0, -4.0])
+
+
+def test_rectification_report_rejects_unknown_models():
+    with pytest.raises(ValueError, match="model must be one of"):
+        plane.rectification_report(model="conformal")
+
+
+def test_helmert_fit_uses_a_right_handed_pixel_frame():
+    # rows point down: without the flip a similarity cannot fit at all
+    obj, pix = plane.control_points()
+    mirrored = HelmertTransform.from_estimate(pix, obj).sigma0
+    assert plane.rectification_report()["fits"]["Helmert"].sigma0 < mirrored / 3
+
+
+def test_rectification_explorer_updates_figure_and_text():
+    e = plane.RectificationExplorer()
+    assert _moves(e, "dcol", 6.0) == (True, True)
+    assert "+6.0" in e.html.value
+    assert _moves(e, "model", "affine") == (True, True)
+    assert "<b>affine</b>" in e.html.value
+    assert repr(e.widget) == "[widget: plane rectification explorer]"
+
+
+@pytest.mark.parametrize("cls, name, values", [
+    (plane.ProjectiveExplorer, "c1", (0.1, 0.3)),
+    (plane.RectificationExplorer, "dcol", (2.0, 8.0)),
+])
+def test_one_update_is_fast_enough(cls, name, values):
+    e = cls()
+    best = float("inf")
+    for i in range(6):
+        t0 = time.perf_counter()
+        e.controls[name].value = values[i % 2]
+        best = min(best, time.perf_counter() - t0)
+    assert best < 0.1  # the benchmark's target is 50 ms; leave room on a loaded test machine
+
+
+# -- static figures -----------------------------------------------------------------------
+
+def test_static_figures_draw():
+    import matplotlib.pyplot as plt
+
+    src = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.5, 0.4]])
+    dst = src * 2 + [[0.01, 0.0], [0.0, -0.02], [0.0, 0.0], [0.03, 0.0], [0.0, 0.01]]
+    fits = [("Helmert", HelmertTransform.from_estimate(src, dst)),
+            ("affine", AffineTransform.from_estimate(src, dst))]
+    figs = [plane.plot_transformed_grids([("affine", AffineTransform(a2=0.3))]),
+            plane.plot_residuals(dst, fits, exaggeration=10),
+            plane.plot_control_points(plane.facade_image(), plane.control_points()[1]),
+            plane.plot_rectifications([("a", np.zeros((4, 5)))], (0, 8, 0, 6))]
+    assert [len(f.axes) for f in figs] == [1, 2, 1, 1]
+    assert "σ0" in figs[1].axes[0].get_title()
+    for f in figs:
+        plt.close(f)
