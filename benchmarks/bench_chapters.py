@@ -15,7 +15,8 @@ import nbformat
 from nbclient import NotebookClient
 
 ROOT = Path(__file__).resolve().parents[1]
-CHAPTERS = ["04-rotations", "05-interior-orientation", "06-collinearity"]
+CHAPTERS = ["04-rotations", "05-interior-orientation", "06-collinearity",
+            "07-plane-transformations"]
 FACTOR = 2.5
 
 FLOOR = """\

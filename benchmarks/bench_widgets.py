@@ -16,7 +16,7 @@ TARGET_MS = 50.0
 
 
 def _cases():
-    from photolib.nb import distortion, projection, rotations
+    from photolib.nb import distortion, plane, projection, rotations
 
     return [
         (rotations.RotationExplorer, "phi", (10.0, 60.0)),
@@ -25,6 +25,8 @@ def _cases():
         (distortion.IterationExplorer, "A1", (-2.0, -60.0)),
         (projection.ProjectionExplorer, "kappa", (0.0, 25.0)),
         (projection.FootprintExplorer, "phi", (0.0, 20.0)),
+        (plane.ProjectiveExplorer, "c1", (0.15, 0.35)),
+        (plane.RectificationExplorer, "dcol", (2.0, 8.0)),
     ]
 
 

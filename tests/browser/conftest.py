@@ -57,6 +57,10 @@ def lab_url(lab_root, lab_log):
     settings = root / "settings" / "@jupyterlab" / "notebook-extension"
     settings.mkdir(parents=True)
     (settings / "tracker.jupyterlab-settings").write_text('{"windowingMode": "none"}')
+    # no "notified about official Jupyter news?" toast over the screenshots
+    news = root / "settings" / "@jupyterlab" / "apputils-extension"
+    news.mkdir(parents=True)
+    (news / "notification.jupyterlab-settings").write_text('{"fetchNews": "false"}')
     port = _free_port()
     log = open(lab_log, "w")  # noqa: SIM115 - lives as long as the server
     proc = subprocess.Popen(

@@ -8,7 +8,8 @@ import pytest
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(300)]
 
-CHAPTERS = ["04-rotations", "05-interior-orientation", "06-collinearity"]
+CHAPTERS = ["04-rotations", "05-interior-orientation", "06-collinearity",
+            "07-plane-transformations"]
 
 
 def test_lab_answers_200(lab_url):
