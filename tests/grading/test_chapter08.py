@@ -1,0 +1,218 @@
+"""The exercises of chapter 08 (space resection and DLT), judged as the grader does.
+
+The same checks as ``test_chapter_exercises.py`` runs for chapters 04-06 (reference
+accepted, every declared mistake recognised with its hint, variants differ, functions judged
+on hidden cases, untouched answers not answered), plus checks of the references by an
+independent route: OpenCV's ``projectPoints`` and ``decomposeProjectionMatrix``.
+
+OpenCV's camera looks along +z with y down; ours along −z with y up. With
+``(kx, ky, N) = Rᵀ(X − X0)`` the OpenCV camera coordinates are ``(kx, −ky, −N)``, so
+``u = c·kx/(−N) + x'0 = x'`` and ``v = c·(−ky)/(−N) = y'0 − y'`` (OpenCV's c_y set to 0).
+"""
+
+from __future__ import annotations
+
+import math
+
+import cv2
+import numpy as np
+import pytest
+import sympy as sp
+
+from photolib.grading.encode import decode_value, encode_value
+from photolib.grading.exercises import ch08_resection_dlt as ch08
+from photolib.grading.exercises import chapter
+from photolib.grading.judge import judge
+from photolib.grading.notebook import function_outputs, parameters_for, reference_outputs
+from photolib.grading.spec import Params
+from photolib.grading.variants import rng_for
+
+EXERCISES = ch08.EXERCISES
+BY_ID = {ex.id: ex for ex in EXERCISES}
+STUDENTS = ("s1000001", "s1000002", "s1000003", "s2345678")
+
+
+def _judge(ex, sid, value):
+    params = parameters_for(ex, sid)
+    if ex.kind == "function":
+        cases = ex.cases(rng_for(sid, ex.id, "hidden"), params)
+        return judge(ex, params, function_outputs(value, cases), reference_outputs(cases))
+    return judge(ex, params, decode_value(encode_value(value)))
+
+
+def _opencv_project(X, p):
+    """Image coordinates (x', y') in mm of the camera of a variant, by cv2.projectPoints."""
+    R = ch08._rotation(p)
+    R_cv = np.diag([1.0, -1.0, -1.0]) @ R.T          # object → OpenCV camera
+    t = -R_cv @ ch08._centre(p)
+    K = np.array([[p["c_mm"], 0.0, p["x0_mm"]], [0.0, p["c_mm"], 0.0], [0.0, 0.0, 1.0]])
+    uv, _ = cv2.projectPoints(np.asarray(X, float).reshape(-1, 1, 3), cv2.Rodrigues(R_cv)[0],
+                              t, K, np.zeros(5))
+    uv = uv.reshape(-1, 2)
+    return np.column_stack([uv[:, 0], p["y0_mm"] - uv[:, 1]])
+
+
+def _dlt_ratio(L, X):
+    L = np.asarray(L, float)
+    h = np.column_stack([X, np.ones(len(X))])
+    den = h[:, :3] @ L[8:11] + 1.0
+    return np.column_stack([h @ L[0:4], h @ L[4:8]]) / den[:, None]
+
+
+def _points_in_front(p, n=8, seed=0):
+    rng = np.random.default_rng(seed)
+    R = ch08._rotation(p)
+    rays = R @ np.vstack([rng.uniform(-0.3, 0.3, (2, n)), -np.ones(n)])
+    return ch08._centre(p) + (rays * rng.uniform(2.0, 40.0, n)).T
+
+
+# -- the same checks as for chapters 04-06 --------------------------------------------------------
+
+def test_module_is_the_registered_chapter():
+    assert ch08.CHAPTER == "08-resection-dlt"
+    assert chapter("08-resection-dlt") == EXERCISES
+    assert len(EXERCISES) >= 4
+    assert {"number", "array", "expression", "function"} <= {ex.kind for ex in EXERCISES}
+
+
+@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
+@pytest.mark.parametrize("sid", STUDENTS[:2])
+def test_reference_is_accepted(ex, sid):
+    verdict = _judge(ex, sid, ex.reference(parameters_for(ex, sid)))
+    assert verdict.status == "correct", verdict.message
+    assert verdict.points == ex.points
+
+
+@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
+def test_each_mistake_is_recognised_with_its_hint(ex):
+    assert ex.mistakes, f"{ex.id} declares no mistakes"
+    for index, mistake in enumerate(ex.mistakes):
+        applied = 0
+        for sid in STUDENTS:
+            wrong = mistake.wrong(parameters_for(ex, sid))
+            if wrong is None:
+                continue
+            applied += 1
+            verdict = _judge(ex, sid, wrong)
+            assert verdict.status == "wrong", (ex.id, index, sid)
+            assert verdict.mistake == mistake.tag, (ex.id, index, sid, verdict.message)
+            assert verdict.message == f"not correct: {mistake.message}", (ex.id, index, sid)
+        assert applied, f"{ex.id}: mistake {index} ({mistake.tag}) never applies"
+
+
+@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
+def test_students_get_different_variants(ex):
+    a, b = (parameters_for(ex, sid) for sid in STUDENTS[:2])
+    assert a != b
+    assert parameters_for(ex, STUDENTS[0]) == a
+    assert ex.statement.format(**a) != ex.statement.format(**b)
+
+
+@pytest.mark.parametrize("ex", [ex for ex in EXERCISES if ex.kind == "function"],
+                         ids=lambda ex: ex.id)
+def test_hidden_inputs_differ_from_the_public_ones(ex):
+    params = parameters_for(ex, STUDENTS[0])
+    public = ex.cases(rng_for(STUDENTS[0], ex.id, "public"), params)
+    hidden = ex.cases(rng_for(STUDENTS[0], ex.id, "hidden"), params)
+    assert len(public) == len(hidden) >= 3
+    assert not all(np.array_equal(np.asarray(a[0]), np.asarray(b[0]))
+                   for a, b in zip(public, hidden))
+    for purpose in ("public", "hidden"):
+        for case in ex.cases(rng_for(STUDENTS[0], ex.id, purpose), params):
+            assert all(np.ndim(arg) == 0 for arg in case)
+            assert [float(a) for a in case] == list(case)
+
+
+@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
+def test_untouched_answer_is_not_answered(ex):
+    value = (lambda *args: ...) if ex.kind == "function" else ...
+    assert _judge(ex, STUDENTS[0], value).status == "not-answered"
+
+
+def test_a_slightly_wrong_function_is_wrong_without_a_hint():
+    ex = BY_ID["rdl.image-point"]
+    f = ex.reference(parameters_for(ex, STUDENTS[0]))
+    verdict = _judge(ex, STUDENTS[0], lambda X, Y, Z: f(X, Y, Z) + 0.01)
+    assert verdict.status == "wrong" and verdict.mistake == "other"
+    assert verdict.message == "not correct"
+
+
+# -- the references by an independent route -------------------------------------------------------
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_redundancy_counts_observations_minus_unknowns(sid):
+    p = parameters_for(BY_ID["rdl.redundancy"], sid)
+    unknowns = {"space resection": 6, "DLT": 11}[p["method"]]
+    assert ch08._redundancy(p) == 2 * p["n"] - unknowns > 0
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_dlt_vector_reproduces_opencv_projection(sid):
+    p = parameters_for(BY_ID["rdl.dlt-vector"], sid)
+    X = _points_in_front(p)
+    np.testing.assert_allclose(_dlt_ratio(ch08._dlt_vector(p), X), _opencv_project(X, p),
+                               atol=1e-9)
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_dlt_interior_agrees_with_opencv_decomposition(sid):
+    p = parameters_for(BY_ID["rdl.dlt-interior"], sid)
+    P = np.append(p["L"], 1.0).reshape(3, 4)
+    K, _, _, *_ = cv2.decomposeProjectionMatrix(P)
+    K = K / K[2, 2]
+    x0, y0, c = ch08._interior(p)
+    assert abs(K[0, 1]) < 1e-6 * abs(K[0, 0])          # no shear
+    np.testing.assert_allclose([K[0, 2], K[1, 2], abs(K[0, 0])], [x0, y0, c], atol=1e-6)
+    # and the printed variant came from a camera whose x'0, y'0 are those (rounded L)
+    q = parameters_for(BY_ID["rdl.dlt-vector"], sid)
+    assert set(q) >= {"x0_mm", "y0_mm", "c_mm"}
+
+
+@pytest.mark.parametrize("sid", STUDENTS[:2])
+def test_dlt_interior_recovers_the_camera_it_was_drawn_from(sid):
+    rng = rng_for(sid, "rdl.dlt-interior")
+    camera = ch08._close_range_orientation(rng)
+    p = parameters_for(BY_ID["rdl.dlt-interior"], sid)
+    np.testing.assert_allclose(ch08._interior(p), [camera["x0_mm"], camera["y0_mm"],
+                                                   camera["c_mm"]], atol=1e-6)
+
+
+@pytest.mark.parametrize("sid", STUDENTS[:2])
+def test_dlt_coefficients_reproduce_opencv_projection(sid):
+    p = Params(ch08._close_range_orientation(np.random.default_rng(len(sid))))
+    from photolib.derive import collinearity as dc
+    R = ch08._rotation(p)
+    values = dict(zip(dc.r, R.ravel())) | {dc.X0: p["X0"], dc.Y0: p["Y0"], dc.Z0: p["Z0"],
+                                           dc.c: p["c_mm"], dc.x0: p["x0_mm"], dc.y0: p["y0_mm"]}
+    L = [float(ch08._coefficient(Params(k=k)).xreplace(values)) for k in range(1, 12)]
+    X = _points_in_front(p, seed=3)
+    np.testing.assert_allclose(_dlt_ratio(L, X), _opencv_project(X, p), atol=1e-9)
+
+
+def test_dlt_coefficient_accepts_a_plain_symbol_derivation():
+    ex = BY_ID["rdl.dlt-coefficient"]
+    r = sp.Matrix(3, 3, sp.symbols("r11 r12 r13 r21 r22 r23 r31 r32 r33"))
+    X0, Y0, Z0, c, x0 = sp.symbols("X0 Y0 Z0 c x0")
+    D = -(r[0, 2] * X0 + r[1, 2] * Y0 + r[2, 2] * Z0)
+    L1 = (x0 * r[0, 2] - c * r[0, 0]) / D
+    sid = next(s for s in (f"s{i}" for i in range(100))
+               if parameters_for(ex, s)["k"] == 1)
+    assert _judge(ex, sid, L1).status == "correct"
+    assert _judge(ex, sid, "(x0*r13 - c*r11)/(-(r13*X0 + r23*Y0 + r33*Z0))").status == "correct"
+
+
+@pytest.mark.parametrize("sid", STUDENTS[:2])
+def test_image_point_reference_agrees_with_opencv(sid):
+    ex = BY_ID["rdl.image-point"]
+    p = parameters_for(ex, sid)
+    P = np.append(p["L"], 1.0).reshape(3, 4)
+    K, R_cv, C, *_ = cv2.decomposeProjectionMatrix(P)
+    K = K / K[2, 2]
+    C = (C[:3] / C[3]).ravel()
+    f = ex.reference(p)
+    X = np.array(ex.cases(rng_for(sid, ex.id, "public"), p))
+    uv, _ = cv2.projectPoints(X.reshape(-1, 1, 3), cv2.Rodrigues(R_cv)[0], -R_cv @ C, K,
+                              np.zeros(5))
+    ours = np.array([f(*x) for x in X])
+    np.testing.assert_allclose(ours, uv.reshape(-1, 2), atol=1e-6)
+    assert math.isclose(abs(K[0, 0]), abs(K[1, 1]), rel_tol=1e-7)
