@@ -16,7 +16,7 @@ TARGET_MS = 50.0
 
 
 def _cases():
-    from photolib.nb import distortion, plane, projection, rotations
+    from photolib.nb import distortion, plane, projection, resection, rotations
 
     return [
         (rotations.RotationExplorer, "phi", (10.0, 60.0)),
@@ -27,6 +27,8 @@ def _cases():
         (projection.FootprintExplorer, "phi", (0.0, 20.0)),
         (plane.ProjectiveExplorer, "c1", (0.15, 0.35)),
         (plane.RectificationExplorer, "dcol", (2.0, 8.0)),
+        (resection.ResectionExplorer, "noise_um", (5.0, 20.0)),
+        (resection.DLTExplorer, "depth", (1.0, 6.0)),
     ]
 
 
