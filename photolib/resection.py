@@ -91,7 +91,8 @@ def space_resection(X, xy, c, x0=0.0, y0=0.0, distortion=None, initial=None, *,
         Stop when the update is below ``tol`` (angles, radians) and ``tol·extent`` (lengths).
     max_iter : int
         Iteration limit. Reaching it raises ``ConvergenceError`` unless ``check=False``, which
-        returns the last iterate with ``converged=False``.
+        returns the last iterate with ``converged=False`` (NaN residuals for points behind
+        its camera, NaN σ0/covariance where they are not defined).
 
     Returns
     -------
@@ -151,17 +152,26 @@ def space_resection(X, xy, c, x0=0.0, y0=0.0, distortion=None, initial=None, *,
                                "iterations (last update "
                                f"{np.max(np.abs(dq)):.3g}); pass check=False to get the last iterate")
     R = rotation_opk(*q[3:])
-    try:
-        v = project(X, q[:3], R, c, x0, y0) - obs
-    except PointBehindCameraError as exc:
-        raise ConvergenceError(f"space resection ended with a point behind the camera: {exc}") from None
-    A = collinearity_jacobian(X, q[:3], R, c, angles=tuple(q[3:]))[:, :, :6].reshape(-1, 6)
     r = 2 * len(X) - 6
+    # the last iterate of a run that did not converge (check=False) is returned as it is:
+    # points behind the camera get NaN residuals, and no covariance is claimed for it
+    xy_q, valid = project(X, q[:3], R, c, x0, y0, return_valid=True)
+    if not converged and not valid.all():
+        return ResectionResult(q[:3].copy(), R, float(q[3]), float(q[4]), float(q[5]),
+                               float("nan"), np.full((6, 6), np.nan), xy_q - obs, it, False, r)
+    if not valid.all():
+        i = int(np.argmin(valid))
+        raise ConvergenceError(f"space resection ended with point {i} ({X[i].tolist()}) behind "
+                               "the camera")
+    v = xy_q - obs
+    A = collinearity_jacobian(X, q[:3], R, c, angles=tuple(q[3:]))[:, :, :6].reshape(-1, 6)
     sigma0 = float(np.sqrt(np.sum(v**2) / r)) if r > 0 else float("nan")
     N = A.T @ A
-    if np.linalg.cond(N) > 1e14:
+    singular = np.linalg.cond(N) > 1e14
+    if singular and converged:
         raise ConvergenceError("normal equations are singular: the points do not determine the "
                                "exterior orientation (e.g. all on a line, or on the danger cylinder)")
-    cov = sigma0**2 * np.linalg.inv(N) if r > 0 else np.full((6, 6), np.nan)
+    cov = (sigma0**2 * np.linalg.inv(N) if r > 0 and not singular
+           else np.full((6, 6), np.nan))
     return ResectionResult(q[:3].copy(), R, float(q[3]), float(q[4]), float(q[5]), sigma0, cov,
                            v, it, converged, r)

@@ -107,6 +107,15 @@ def test_divergence_and_non_convergence_raise():
         space_resection(X, xy, C, initial=np.r_[X0_TRUE + 5, ANGLES + 0.2], max_iter=2)
     res = space_resection(X, xy, C, initial=np.r_[X0_TRUE + 5, ANGLES + 0.2], max_iter=2, check=False)
     assert not res.converged and res.iterations == 2
+    # check=False returns the last iterate even when it has points behind its camera
+    start = [-10.093, -37.094, 87.181, -0.317, 0.143, 0.393]
+    with pytest.raises(ConvergenceError, match="did not converge"):
+        space_resection(X, xy, C, initial=start, max_iter=1)
+    res = space_resection(X, xy, C, initial=start, max_iter=1, check=False)
+    behind = project(X, res.X0, res.R, C, return_valid=True)[1]
+    assert not res.converged and not behind.all()
+    assert np.isnan(res.residuals[~behind]).all() and np.isfinite(res.residuals[behind]).all()
+    assert np.isnan(res.sigma0) and np.isnan(res.covariance).all()
 
 
 def test_bad_input():
