@@ -1,5 +1,5 @@
 # generated from photolib/derive/rotation.py, do not edit
-# source sha256: 9eae4653e8da412c4d2894472751fcc0ff6273ec19ca499a4376b5509944711c
+# source sha256: 57d11834ca086d3b580d48deaf31f32c45039629000203bf22392780ce214d35
 # regenerate with: python -m photolib codegen   (SymPy 1.14)
 """NumPy code generated from :mod:`photolib.derive.rotation`."""
 

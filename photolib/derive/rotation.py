@@ -27,13 +27,21 @@ def skew(v) -> sp.Matrix:
     return sp.Matrix([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
 
 
-def _exp_rotation(axis: int, t) -> sp.Matrix:
+@functools.lru_cache(maxsize=256)
+def _exp_rotation_cached(axis: int, t) -> sp.ImmutableMatrix:
     e = sp.zeros(3, 1)
     e[axis] = 1
     # exp of a skew matrix (SymPy's Jordan-form exponential); any complex exponentials are
     # rewritten as cos/sin and expanded -- bounded work, no simplify
     m = (skew(e) * t).exp()
-    return m.applyfunc(lambda z: sp.expand_complex(z.rewrite(sp.cos)))
+    return sp.ImmutableMatrix(m.applyfunc(lambda z: sp.expand_complex(z.rewrite(sp.cos))))
+
+
+def _exp_rotation(axis: int, t) -> sp.Matrix:
+    # the Jordan-form exponential costs ~1 s per call; the errata catalogue and the tests ask
+    # for the same few matrices many times, so each (axis, angle) is derived once per process
+    # and handed out as a fresh mutable copy
+    return sp.Matrix(_exp_rotation_cached(axis, sp.sympify(t)))
 
 
 def R_omega(t=omega) -> sp.Matrix:
