@@ -16,7 +16,7 @@ from nbclient import NotebookClient
 
 ROOT = Path(__file__).resolve().parents[1]
 CHAPTERS = ["04-rotations", "05-interior-orientation", "06-collinearity",
-            "07-plane-transformations", "08-resection-dlt"]
+            "07-plane-transformations", "08-resection-dlt", "09-stereo"]
 FACTOR = 2.5
 
 FLOOR = """\

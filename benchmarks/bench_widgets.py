@@ -16,7 +16,7 @@ TARGET_MS = 50.0
 
 
 def _cases():
-    from photolib.nb import distortion, plane, projection, resection, rotations
+    from photolib.nb import distortion, plane, projection, resection, rotations, stereo
 
     return [
         (rotations.RotationExplorer, "phi", (10.0, 60.0)),
@@ -29,6 +29,8 @@ def _cases():
         (plane.RectificationExplorer, "dcol", (2.0, 8.0)),
         (resection.ResectionExplorer, "noise_um", (5.0, 20.0)),
         (resection.DLTExplorer, "depth", (1.0, 6.0)),
+        (stereo.StereoPairExplorer, "B", (10.0, 50.0)),
+        (stereo.EpipolarExplorer, "x1", (-10.0, 10.0)),
     ]
 
 

@@ -46,6 +46,15 @@ _EXPORTS = {
     "ResectionResult": "resection", "space_resection": "resection",
     "CircleFit": "measurement", "MomentThreshold": "measurement", "fit_circle": "measurement",
     "laplacian_of_gaussian": "measurement", "moment_threshold": "measurement",
+    # chapter 09: stereo (normal case, forward intersection, orientations, epipolar geometry)
+    "AbsoluteOrientation": "stereo", "ForwardIntersection": "stereo",
+    "RelativeOrientation": "stereo", "StereoAccuracy": "stereo",
+    "absolute_orientation": "stereo", "epipolar_lines": "stereo",
+    "essential_matrix": "stereo", "forward_intersection": "stereo",
+    "fundamental_matrix": "stereo", "height_from_parallax": "stereo",
+    "normal_case_accuracy": "stereo", "normal_case_points": "stereo",
+    "normal_case_rotation": "stereo", "normalised_image_points": "stereo",
+    "relative_orientation": "stereo",
 }
 
 __all__ = sorted(_EXPORTS)

@@ -6,6 +6,11 @@ origin, camera 2 at ``(B, 0, 0)``. The collinearity equations of
 ``px' = x'1 − x'2`` is ``−c·B/Z`` and so ``Z = −c·B/px'`` (c > 0, points in front have
 Z < 0). Error propagation of ``Z(px')`` and of ``X = m·x'`` gives the accuracy formulas.
 
+Chapter 09 adds the object point from the parallax (:func:`object_from_parallax`), the full
+σ_X (:func:`sigma_X_full`), the coplanarity condition and where ``E = R1ᵀ·[b]×·R2`` comes
+from (:func:`coplanarity_identity`, :func:`coplanarity_normal_case`) and the unknown counts
+5 + 7 = 12 of relative and absolute orientation (:func:`orientation_unknowns`).
+
 Examples
 --------
 >>> import sympy as sp
@@ -18,6 +23,7 @@ from __future__ import annotations
 import sympy as sp
 
 from photolib.derive import collinearity as col
+from photolib.derive.rotation import skew
 
 X, Y, Z, c, x0, y0 = col.X, col.Y, col.Z, col.c, col.x0, col.y0
 B = sp.symbols("B", positive=True)
@@ -70,3 +76,90 @@ def sigma_Z():
 def sigma_XY():
     """σ_X of ``X = m·x'`` for image σ ``s_x`` (scale number m)."""
     return m * s_x
+
+
+# -- chapter 09: object point from parallax, coplanarity, orientation counts ---------------------
+
+def object_from_parallax():
+    """``(X, Y, Z)`` of the normal case in terms of x'1, y'1 (reduced) and ``px' = x'1 − x'2``.
+
+    Solved from the collinearity equations of both cameras (x'0 = y'0 = 0): ``X = B·x'1/px'``,
+    ``Y = B·y'1/px'``, ``Z = −c·B/px'``.
+
+    >>> [sp.simplify(e) for e in object_from_parallax()] == [B*x1/px, B*y1/px, -c*B/px]
+    True
+    """
+    xa, ya = image_coordinates_normal_case(1)
+    xb, _ = image_coordinates_normal_case(2)
+    sub = {x0: 0, y0: 0}
+    sol = sp.solve([sp.Eq(xa.subs(sub), x1), sp.Eq(ya.subs(sub), y1),
+                    sp.Eq(xa.subs(sub) - xb.subs(sub), px)], [X, Y, Z], dict=True)[0]
+    return sol[X], sol[Y], sol[Z]
+
+
+def sigma_X_full():
+    """σ_X of ``X = B·x'1/px'`` with independent σ(x'1) = ``s_x`` and σ(px') = ``s_px``.
+
+    Propagation gives ``(B/px')²·s_x² + (B·x'1/px'²)²·s_px²``; at ``x'1 = 0`` (the nadir)
+    it is ``m·s_x`` (``m = h/c = B/px'``), the leading term used by Luhmann.
+    """
+    Xf = B * x1 / px
+    return sp.sqrt(sp.diff(Xf, x1) ** 2 * s_x**2 + sp.diff(Xf, px) ** 2 * s_px**2)
+
+
+#: image vectors x*_1, x*_2 (components) and base components for the coplanarity derivation
+xs1 = sp.Matrix(sp.symbols("xi1 eta1 zeta1", real=True))
+xs2 = sp.Matrix(sp.symbols("xi2 eta2 zeta2", real=True))
+bvec = sp.Matrix(sp.symbols("b_x b_y b_z", real=True))
+
+
+def coplanarity_identity():
+    """``det[b, R1·x*1, R2·x*2] + x*1ᵀ·(R1ᵀ[b]×R2)·x*2`` for general 3×3 R1, R2: expands to 0.
+
+    This is where ``E = R1ᵀ·[b]×·R2`` comes from: the base and both rays lie in one plane
+    (the epipolar plane) exactly when the triple product vanishes.
+
+    >>> coplanarity_identity()
+    0
+    """
+    R1 = sp.Matrix(3, 3, sp.symbols("p11:14 p21:24 p31:34", real=True))
+    R2 = sp.Matrix(3, 3, sp.symbols("q11:14 q21:24 q31:34", real=True))
+    r1, r2 = R1 * xs1, R2 * xs2
+    det = sp.Matrix.hstack(bvec, r1, r2).det()
+    E = R1.T * skew(bvec) * R2
+    return sp.expand(det + (xs1.T * E * xs2)[0])
+
+
+def coplanarity_normal_case():
+    """The coplanarity determinant of the normal case ``det[b, x*1, x*2]/(bx·c)``.
+
+    With b = (bx, 0, 0), x*_i = (x'_i, y'_i, −c) it is ``y'2 − y'1``: the y-parallax, which
+    is why a relative orientation removes the y-parallaxes.
+
+    >>> coplanarity_normal_case()
+    -y1 + y2
+    """
+    bx = sp.symbols("b_x", positive=True)
+    y2 = sp.symbols("y2", real=True)
+    M = sp.Matrix([[bx, x1, x2], [0, y1, y2], [0, -c, -c]])
+    return sp.expand(M.det() / (bx * c))
+
+
+def orientation_unknowns():
+    """Unknown counts of a stereo pair: 2 × 6 exterior = 5 relative + 7 absolute.
+
+    The 7 datum parameters (3 shifts, 3 rotations, scale of the model) are what relative
+    orientation cannot see, because the coplanarity condition is invariant under a 3-D
+    similarity of the whole pair: it is homogeneous in b (scale), and rotating b, R1 and R2
+    together leaves ``R1ᵀ[b]×R2`` unchanged (``[Q·b]× = Q·[b]×·Qᵀ``).
+
+    >>> orientation_unknowns()
+    {'exterior': 12, 'relative': 5, 'absolute': 7}
+    """
+    # the invariance, checked exactly on a rational rotation (Cayley transform of a skew matrix)
+    S = skew(sp.Matrix([sp.Rational(1, 2), sp.Rational(1, 3), sp.Rational(1, 5)]))
+    Q = (sp.eye(3) - S).inv() * (sp.eye(3) + S)
+    diff = skew(Q * bvec) - Q * skew(bvec) * Q.T
+    if diff.applyfunc(sp.expand) != sp.zeros(3, 3):
+        raise AssertionError("[Q·b]× ≠ Q·[b]×·Qᵀ")
+    return {"exterior": 12, "relative": 12 - 7, "absolute": 7}

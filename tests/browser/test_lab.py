@@ -9,7 +9,7 @@ import pytest
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(300)]
 
 CHAPTERS = ["04-rotations", "05-interior-orientation", "06-collinearity",
-            "07-plane-transformations", "08-resection-dlt"]
+            "07-plane-transformations", "08-resection-dlt", "09-stereo"]
 
 
 def test_lab_answers_200(lab_url):

@@ -1,0 +1,361 @@
+"""Chapter 09 pictures and widgets: stereo photogrammetry (Stereophotogrammetrie).
+
+The normal case (Normalfall) of the course: camera 1 at the origin, camera 2 at (B, 0, 0),
+both with R = I, looking down −Z; an object point at distance h has Z = −h. A camera with
+c = 50 mm and a 36 mm × 24 mm format. :func:`pair_report` computes parallax, Z and the
+accuracy with :func:`photolib.height_from_parallax` and :func:`photolib.normal_case_accuracy`;
+:func:`epipolar_report` the epipolar line of a point of image 1 in a rotated image 2 with
+:func:`photolib.essential_matrix`, :func:`photolib.fundamental_matrix` and
+:func:`photolib.epipolar_lines`. :func:`pair_scene` is the convergent pair of the relative and
+absolute orientation sections.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+import photolib as pl
+from photolib.nb.draw import format_corners, house_edges, lines_xyz
+from photolib.nb.live import Explorer, LiveFigure, slider
+from photolib.nb.text import matrix_html
+
+__all__ = [
+    "BASE_M",
+    "C_MM",
+    "HALF",
+    "EpipolarExplorer",
+    "StereoPairExplorer",
+    "epipolar_report",
+    "pair_report",
+    "pair_scene",
+    "plot_normal_case",
+    "plot_relative_convergence",
+    "digitise_house",
+    "plot_digitised",
+    "relative_history",
+]
+
+#: camera constant of the chapter's camera, mm, and its half format, mm
+C_MM = 50.0
+HALF = (18.0, 12.0)
+#: base of the epipolar explorer's pair, m, and the object distance of its point, m
+BASE_M = 4.0
+_DEPTH_M = 20.0
+#: distances (factors of _DEPTH_M) of the points marked along the ray in image 2
+_DEPTH_MARKS = (0.6, 0.8, 1.0, 1.3, 1.8)
+
+
+def pair_report(B: float = 20.0, h: float = 100.0, sigma_px_um: float = 4.0) -> dict:
+    """The normal case for a point below the middle of the base, at distance h (m).
+
+    Parameters
+    ----------
+    B : float
+        Base, m.
+    h : float
+        Object distance (for aerial images: flying height above the point), m.
+    sigma_px_um : float
+        σ of the x-parallax, µm; one image coordinate is taken as ``σ_px'/√2``
+        (x'1 and x'2 measured independently, ``luhmann:example-3.7`` old reading).
+
+    Returns
+    -------
+    dict
+        ``px_mm``, ``Z_m``, ``m``, ``h_over_B``, ``sigma_Z_mm``, ``sigma_XY_mm``,
+        ``overlap`` (forward overlap of the two formats, fraction), ``x1_mm``, ``x2_mm``, ``html``.
+
+    Examples
+    --------
+    >>> rep = pair_report(20.0, 100.0, 4.0)
+    >>> round(rep["px_mm"], 6), round(rep["Z_m"], 9), round(rep["sigma_Z_mm"], 6)
+    (10.0, -100.0, 40.0)
+    """
+    x1 = C_MM * (B / 2) / h              # x' = −c·X/Z with X = B/2, Z = −h
+    x2 = C_MM * (B / 2 - B) / h
+    px = x1 - x2
+    Z = pl.height_from_parallax(px, C_MM, B)
+    s_px = sigma_px_um * 1e-3
+    acc = pl.normal_case_accuracy(h * 1e3, B * 1e3, C_MM, s_px, s_px / np.sqrt(2))
+    footprint = 2 * HALF[0] * acc.m * 1e-3          # m along the base
+    overlap = max(0.0, 1.0 - B / footprint)
+    html = (f"<p>parallax p<sub>x</sub>' = x'<sub>1</sub> − x'<sub>2</sub> = "
+            f"{x1:.3f} − ({x2:.3f}) = <b>{px:.3f} mm</b><br>"
+            f"Z = −c·B/p<sub>x</sub>' = <b>{Z:.2f} m</b><br>"
+            f"scale number m = h/c = {acc.m:.0f}, h/B = {acc.base_ratio:.2f}<br>"
+            f"σ<sub>Z</sub> = (h/B)·m·σ<sub>px</sub>' = <b>{acc.sigma_Z:.1f} mm</b><br>"
+            f"σ<sub>XY</sub> = m·σ<sub>x</sub>' = {acc.sigma_XY:.1f} mm "
+            f"(σ<sub>x</sub>' = σ<sub>px</sub>'/√2)<br>"
+            f"forward overlap: {100 * overlap:.0f} %</p>")
+    return {"px_mm": px, "Z_m": Z, "m": acc.m, "h_over_B": acc.base_ratio,
+            "sigma_Z_mm": acc.sigma_Z, "sigma_XY_mm": acc.sigma_XY, "overlap": overlap,
+            "x1_mm": x1, "x2_mm": x2, "html": html}
+
+
+def _second_camera(phi_deg: float, kappa_deg: float, omega_deg: float = 0.0):
+    return np.array([BASE_M, 0.0, 0.0]), pl.rotation_opk(*np.radians([omega_deg, phi_deg,
+                                                                      kappa_deg]))
+
+
+def epipolar_report(x1: float = 5.0, y1: float = 3.0, phi_deg: float = 8.0,
+                    kappa_deg: float = 5.0) -> dict:
+    """Epipolar line in image 2 of the point (x1, y1) of image 1 (mm).
+
+    Camera 1 at the origin with R = I, camera 2 at (BASE_M, 0, 0) with φ2, κ2 (degrees).
+
+    Returns
+    -------
+    dict
+        ``E``, ``F`` (3, 3); ``line`` (a, b, d) in image 2 with a·x' + b·y' + d = 0;
+        ``marks`` (K, 2): the images in image 2 of points on the ray at the distances
+        ``_DEPTH_M·_DEPTH_MARKS``; ``segment`` (2, 2): the line clipped to the drawing;
+        ``py_mm``: y'2 − y'1 of the mark at ``_DEPTH_M`` (y-parallax); ``html``.
+
+    Examples
+    --------
+    >>> rep = epipolar_report(5.0, 3.0, 0.0, 0.0)     # the normal case: a horizontal line
+    >>> np.round(rep["line"], 12).tolist(), round(rep["py_mm"], 12)
+    ([0.0, -1.0, 3.0], 0.0)
+    """
+    X02, R2 = _second_camera(phi_deg, kappa_deg)
+    E = pl.essential_matrix(np.zeros(3), np.eye(3), X02, R2)
+    F = pl.fundamental_matrix(E, C_MM, C_MM)
+    line = pl.epipolar_lines(F, [x1, y1], image=2)
+    ray = np.array([x1, y1, -C_MM]) / C_MM
+    pts = np.array([ray * _DEPTH_M * f for f in _DEPTH_MARKS])   # X = λ·x* (R1 = I)
+    marks, _ = pl.project(pts, X02, R2, C_MM, return_valid=True)
+    a, b, d = line
+    if abs(b) >= abs(a):
+        xs = np.array([-30.0, 30.0])
+        seg = np.column_stack([xs, -(a * xs + d) / b])
+    else:
+        ys = np.array([-20.0, 20.0])
+        seg = np.column_stack([-(b * ys + d) / a, ys])
+    mid = marks[_DEPTH_MARKS.index(1.0)]
+    py = float(mid[1] - y1)
+    html = (f"<p>point in image 1: ({x1:.1f}, {y1:.1f}) mm<br>"
+            f"epipolar line in image 2:<br>&nbsp;{a:+.4f}·x' {b:+.4f}·y' {d:+.3f} = 0<br>"
+            f"y-parallax of the point at {_DEPTH_M:g} m: <b>{py:+.3f} mm</b><br>"
+            f"(0 in the normal case φ2 = κ2 = 0)</p>"
+            + matrix_html(E / np.linalg.norm(E), "E / |E| (x*1ᵀ E x*2 = 0)", 3))
+    return {"E": E, "F": F, "line": line, "marks": marks, "segment": seg, "py_mm": py,
+            "html": html}
+
+
+def pair_scene(n: int = 20, seed: int = 9, noise_um: float = 2.0):
+    """A convergent stereo pair over a field with relief, for the orientation sections.
+
+    Returns
+    -------
+    dict
+        ``X`` (n, 3) object points, m; ``X01``, ``X02`` (3,); ``R1``, ``R2`` (3, 3);
+        ``xy1``, ``xy2`` (n, 2) image points, mm, with Gaussian noise ``noise_um`` (µm).
+
+    Examples
+    --------
+    >>> s = pair_scene()
+    >>> s["X"].shape, bool(np.all(np.abs(s["xy1"]) < HALF))
+    ((20, 3), True)
+    """
+    rng = np.random.default_rng(seed)
+    X = np.column_stack([rng.uniform(-14.0, 14.0, (n, 2)) * [1.0, 0.65], rng.uniform(0, 6, n)])
+    X01, X02 = np.array([-5.0, 0.5, 60.0]), np.array([5.5, -0.5, 61.0])
+    R1 = pl.rotation_opk(*np.radians([1.0, -2.0, 3.0]))
+    R2 = pl.rotation_opk(*np.radians([-1.5, 2.5, 1.0]))
+    z = rng.standard_normal((2, n, 2)) * noise_um * 1e-3
+    return {"X": X, "X01": X01, "X02": X02, "R1": R1, "R2": R2,
+            "xy1": pl.project(X, X01, R1, C_MM) + z[0],
+            "xy2": pl.project(X, X02, R2, C_MM) + z[1]}
+
+
+def relative_history(xy1, xy2, c, bx, max_iter: int = 8):
+    """Parameters (by, bz, ω2, φ2, κ2) after each Gauss–Newton iteration (row 0: start 0).
+
+    Each row k is :func:`photolib.relative_orientation` run with ``max_iter = k``.
+
+    >>> s = pair_scene(noise_um=0.0)
+    >>> hist = relative_history(s["xy1"], s["xy2"], C_MM, 1.0, 3)
+    >>> hist.shape
+    (4, 5)
+    """
+    rows = [np.zeros(5)]
+    for k in range(1, max_iter + 1):
+        ro = pl.relative_orientation(xy1, xy2, c, bx, max_iter=k, check=False)
+        rows.append(ro.params)
+        if ro.converged:
+            break
+    return np.array(rows)
+
+
+def digitise_house(B: float = 20.0, h: float = 100.0, noise_um: float = 3.0, seed: int = 4):
+    """Stereo digitising (Stereodigitalisierung) of a house in a normal-case pair.
+
+    The house of :func:`photolib.nb.draw.house_edges` (10 m, on the ground at Z = −h) is
+    imaged by the normal-case pair; the "operator" sets the floating mark on each corner in
+    both images with ``noise_um`` of Gaussian error, and the corners come back by
+    :func:`photolib.normal_case_points`.
+
+    Returns
+    -------
+    dict
+        ``edges`` (E, 2, 3) true edges; ``corners`` (P, 3) true corners; ``xy1``, ``xy2``
+        (P, 2) measured image points, mm; ``measured`` (P, 3) digitised corners, m;
+        ``measured_edges`` (E, 2, 3); ``error_mm`` (P, 3) measured − true; ``sigma`` (σ_XY,
+        σ_Z) in mm predicted by :func:`photolib.normal_case_accuracy`.
+
+    Examples
+    --------
+    >>> d = digitise_house(noise_um=0.0)
+    >>> float(np.abs(d["error_mm"]).max()) < 1e-9
+    True
+    """
+    edges = house_edges(10.0) + np.array([B / 2, 0.0, -h])
+    corners, index = np.unique(edges.reshape(-1, 3), axis=0, return_inverse=True)
+    z = np.random.default_rng(seed).standard_normal((2, len(corners), 2)) * noise_um * 1e-3
+    xy1 = pl.project(corners, np.zeros(3), np.eye(3), C_MM) + z[0]
+    xy2 = pl.project(corners, [B, 0.0, 0.0], np.eye(3), C_MM) + z[1]
+    measured = pl.normal_case_points(xy1, xy2, C_MM, B)
+    s = max(noise_um, 1e-9) * 1e-3
+    acc = pl.normal_case_accuracy(h * 1e3, B * 1e3, C_MM, np.sqrt(2) * s, s)
+    return {"edges": edges, "corners": corners, "xy1": xy1, "xy2": xy2, "measured": measured,
+            "measured_edges": measured[index.reshape(-1, 2)],
+            "error_mm": (measured - corners) * 1e3, "sigma": (acc.sigma_XY, acc.sigma_Z)}
+
+
+# -- static figures -------------------------------------------------------------------------------
+
+def plot_normal_case(B=20.0, h=100.0, title="normal case / Normalfall (X–Z section)"):
+    """Side view of the normal case: two cameras, their fields of view and one point."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.0, 3.2))
+    _draw_pair(ax, B, h)
+    ax.set_title(title)
+    return fig
+
+
+def _draw_pair(ax, B, h):
+    w = HALF[0] / C_MM
+    for X0, colour in ((0.0, "#1f77b4"), (B, "#d62728")):
+        ax.plot([X0 - w * h, X0, X0 + w * h], [-h, 0, -h], color=colour, lw=1)
+        ax.plot([X0 - w * 0.1 * h, X0 + w * 0.1 * h], [-0.1 * h] * 2, color=colour, lw=2)
+        ax.plot([X0, B / 2], [0, -h], "--", color=colour, lw=1)
+    ax.plot([B / 2], [-h], "o", color="k", ms=4)
+    ax.annotate("", xy=(B, 0.05 * h), xytext=(0, 0.05 * h),
+                arrowprops={"arrowstyle": "<->", "color": "0.3"})
+    ax.text(B / 2, 0.08 * h, "B", ha="center", va="bottom")
+    ax.set(xlabel="X [m]", ylabel="Z [m]", aspect="equal", ylim=(-1.08 * h, 0.25 * h))
+
+
+def plot_digitised(d, title="stereo digitising: plan and elevation"):
+    """Plan (X–Y) and side view (X–Z) of the true and the digitised house."""
+    import matplotlib.pyplot as plt
+
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(7.0, 3.0))
+    for axis, (i, j) in ((ax, (0, 1)), (bx, (0, 2))):
+        true, meas = lines_xyz(d["edges"]), lines_xyz(d["measured_edges"])
+        axis.plot(true[i], true[j], color="0.6", lw=3, label="true")
+        axis.plot(meas[i], meas[j], color="#d62728", lw=1, label="digitised")
+        axis.set(aspect="equal", xlabel="XYZ"[i] + " [m]", ylabel="XYZ"[j] + " [m]")
+    ax.legend(fontsize=8)
+    fig.suptitle(title)
+    return fig
+
+
+def plot_relative_convergence(history, reference, title="relative orientation: convergence"):
+    """‖q − q̂‖ per iteration of :func:`relative_history` (q = by, bz, ω2, φ2, κ2)."""
+    import matplotlib.pyplot as plt
+
+    err = np.maximum(np.linalg.norm(np.asarray(history) - np.asarray(reference), axis=1), 1e-16)
+    fig, ax = plt.subplots(figsize=(5.2, 3.0))
+    ax.semilogy(np.arange(len(err)), err, "o-", ms=4)
+    ax.set(xlabel="iteration", ylabel="‖q − q̂‖ [model unit, rad]", title=title,
+           ylim=(1e-16, 1.0))
+    return fig
+
+
+# -- widgets --------------------------------------------------------------------------------------
+
+class StereoPairExplorer(Explorer):
+    """Base B, object distance h and parallax σ → parallax, Z and σ_Z with both fields of view."""
+
+    title = "stereo pair explorer"
+    B_RANGE = np.linspace(2.0, 80.0, 79)
+    EXAGGERATE = 100.0
+
+    def __init__(self, B=20.0, h=100.0, sigma_px_um=4.0):
+        self.controls = {"B": slider("base B [m]", B, 2, 80, 1, fmt=".0f"),
+                         "h": slider("distance h [m]", h, 20, 300, 5, fmt=".0f"),
+                         "sigma_px_um": slider("σ px' [µm]", sigma_px_um, 0.5, 20, 0.5)}
+        self.live = LiveFigure((7.4, 3.0))
+        fig = self.live.figure
+        ax = fig.add_subplot(1, 2, 1)
+        bx = fig.add_subplot(1, 2, 2)
+        fig.subplots_adjust(0.1, 0.17, 0.98, 0.9, wspace=0.35)
+        ax.set(xlim=(-120, 200), ylim=(-320, 30), xlabel="X [m]", ylabel="Z [m]",
+               title="fields of view (X–Z)")
+        self._fov = [ax.plot([], [], color=col, lw=1)[0] for col in ("#1f77b4", "#d62728")]
+        self._rays = [ax.plot([], [], "--", color=col, lw=1)[0] for col in ("#1f77b4", "#d62728")]
+        (self._point,) = ax.plot([], [], "o", color="k", ms=4)
+        (self._band,) = ax.plot([], [], color="#2ca02c", lw=6, alpha=0.6)
+        bx.set(xlim=(0, 82), ylim=(1, 1e4), yscale="log", xlabel="base B [m]",
+               ylabel="σ_Z [mm]", title="σ_Z over the base at this h")
+        (self._curve,) = bx.plot([], [], color="#2ca02c")
+        (self._marker,) = bx.plot([], [], "o", color="#d62728", ms=6)
+        for artist in (*self._fov, *self._rays, self._point, self._band, self._curve,
+                       self._marker):
+            self.live.animate(artist)
+        self.report = None
+        self._finish()
+
+    def draw(self, B, h, sigma_px_um) -> str:
+        self.report = rep = pair_report(B, h, sigma_px_um)
+        w = HALF[0] / C_MM
+        for line, X0 in zip(self._fov, (0.0, B)):
+            line.set_data([X0 - w * h, X0, X0 + w * h], [-h, 0.0, -h])
+        for line, X0 in zip(self._rays, (0.0, B)):
+            line.set_data([X0, B / 2], [0.0, -h])
+        self._point.set_data([B / 2], [-h])
+        half = rep["sigma_Z_mm"] * 1e-3 * self.EXAGGERATE   # σ_Z (mm) as metres, enlarged
+        self._band.set_data([B / 2, B / 2], [-h - half, -h + half])
+        # σ_Z ∝ 1/B at fixed h: one library value scaled over the base range
+        self._curve.set_data(self.B_RANGE, rep["sigma_Z_mm"] * B / self.B_RANGE)
+        self._marker.set_data([B], [rep["sigma_Z_mm"]])
+        return rep["html"] + f"<p style='color:#2ca02c'>green bar: ±σ<sub>Z</sub> ×{self.EXAGGERATE:g}</p>"
+
+
+class EpipolarExplorer(Explorer):
+    """A point in image 1 and the rotation of image 2 → its epipolar line in image 2."""
+
+    title = "epipolar line explorer"
+
+    def __init__(self, x1=5.0, y1=3.0, phi_deg=8.0, kappa_deg=5.0):
+        self.controls = {"x1": slider("x'1 [mm]", x1, -18, 18, 0.5),
+                         "y1": slider("y'1 [mm]", y1, -12, 12, 0.5),
+                         "phi_deg": slider("φ2 [°]", phi_deg, -20, 20, 0.5),
+                         "kappa_deg": slider("κ2 [°]", kappa_deg, -30, 30, 0.5)}
+        self.live = LiveFigure((7.4, 2.8))
+        fig = self.live.figure
+        a1 = fig.add_subplot(1, 2, 1)
+        a2 = fig.add_subplot(1, 2, 2)
+        fig.subplots_adjust(0.08, 0.17, 0.98, 0.9, wspace=0.25)
+        for ax, name in ((a1, "image 1 (R = I)"), (a2, "image 2 (φ2, κ2)")):
+            ax.plot(*format_corners(*HALF).T, color="0.5", lw=1)
+            ax.set(xlim=(-24, 24), ylim=(-16, 16), aspect="equal", xlabel="x' [mm]",
+                   ylabel="y' [mm]", title=name)
+        (self._p1,) = a1.plot([], [], "o", color="#d62728", ms=6)
+        (self._line,) = a2.plot([], [], color="#1f77b4", lw=1.5)
+        (self._marks,) = a2.plot([], [], "o", color="#d62728", ms=4)
+        (self._same,) = a2.plot([], [], "+", color="0.4", ms=9)
+        for artist in (self._p1, self._line, self._marks, self._same):
+            self.live.animate(artist)
+        self.report = None
+        self._finish()
+
+    def draw(self, x1, y1, phi_deg, kappa_deg) -> str:
+        self.report = rep = epipolar_report(x1, y1, phi_deg, kappa_deg)
+        self._p1.set_data([x1], [y1])
+        self._line.set_data(*rep["segment"].T)
+        self._marks.set_data(*rep["marks"].T)
+        self._same.set_data([x1], [y1])
+        return rep["html"] + ("<p>red dots: the ray of the point at 12 … 36 m; "
+                              "+: the same x', y' as in image 1</p>")

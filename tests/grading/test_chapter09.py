@@ -1,0 +1,180 @@
+"""The exercises of chapter 09 (stereo), judged as the grader does.
+
+The same checks as for chapter 08 (reference accepted, every declared mistake recognised
+with its hint, variants differ, functions judged on hidden cases, untouched answers not
+answered), plus checks of the references by independent routes: SymPy (the normal-case
+derivation), Monte Carlo (σ_Z), OpenCV (triangulatePoints, the essential matrix of its poses).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from photolib.derive import stereo as ds
+from photolib.grading.encode import decode_value, encode_value
+from photolib.grading.exercises import ch09_stereo as ch09
+from photolib.grading.exercises import chapter
+from photolib.grading.judge import judge
+from photolib.grading.notebook import function_outputs, parameters_for, reference_outputs
+from photolib.grading.variants import rng_for
+
+cv2 = pytest.importorskip("cv2")
+
+EXERCISES = ch09.EXERCISES
+BY_ID = {ex.id: ex for ex in EXERCISES}
+STUDENTS = ("s1000001", "s1000002", "s1000003", "s2345678", "s3000003", "s3000004",
+            "s3000005", "s3000006")
+D = np.diag([1.0, -1.0, -1.0])
+
+
+def _judge(ex, sid, value):
+    params = parameters_for(ex, sid)
+    if ex.kind == "function":
+        cases = ex.cases(rng_for(sid, ex.id, "hidden"), params)
+        return judge(ex, params, function_outputs(value, cases), reference_outputs(cases))
+    return judge(ex, params, decode_value(encode_value(value)))
+
+
+def test_module_is_the_registered_chapter():
+    assert ch09.CHAPTER == "09-stereo"
+    assert chapter("09-stereo") == EXERCISES
+    assert len(EXERCISES) >= 4
+    assert {"number", "array", "function", "choice"} <= {ex.kind for ex in EXERCISES}
+
+
+@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
+@pytest.mark.parametrize("sid", STUDENTS[:2])
+def test_reference_is_accepted(ex, sid):
+    verdict = _judge(ex, sid, ex.reference(parameters_for(ex, sid)))
+    assert verdict.status == "correct", verdict.message
+    assert verdict.points == ex.points
+
+
+@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
+def test_each_mistake_is_recognised_with_its_hint(ex):
+    assert ex.mistakes, f"{ex.id} declares no mistakes"
+    for index, mistake in enumerate(ex.mistakes):
+        applied = 0
+        for sid in STUDENTS:
+            wrong = mistake.wrong(parameters_for(ex, sid))
+            if wrong is None:
+                continue
+            applied += 1
+            verdict = _judge(ex, sid, wrong)
+            assert verdict.status == "wrong", (ex.id, index, sid)
+            assert verdict.mistake == mistake.tag, (ex.id, index, sid, verdict.message)
+            assert verdict.message == f"not correct: {mistake.message}", (ex.id, index, sid)
+        assert applied, f"{ex.id}: mistake {index} ({mistake.tag}) never applies"
+
+
+@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
+def test_students_get_different_variants(ex):
+    a, b = (parameters_for(ex, sid) for sid in STUDENTS[:2])
+    assert a != b
+    assert parameters_for(ex, STUDENTS[0]) == a
+    assert ex.statement.format(**a) != ex.statement.format(**b)
+
+
+def test_hidden_inputs_differ_from_the_public_ones():
+    ex = BY_ID["st.intersection"]
+    params = parameters_for(ex, STUDENTS[0])
+    public = ex.cases(rng_for(STUDENTS[0], ex.id, "public"), params)
+    hidden = ex.cases(rng_for(STUDENTS[0], ex.id, "hidden"), params)
+    assert len(public) == len(hidden) >= 3 and public != hidden
+    for case in public + hidden:
+        assert [float(a) for a in case] == list(case) and case[0] > case[2]   # px' > 0
+
+
+@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
+def test_untouched_answer_is_not_answered(ex):
+    value = (lambda *args: ...) if ex.kind == "function" else ...
+    assert _judge(ex, STUDENTS[0], value).status == "not-answered"
+
+
+def test_a_slightly_wrong_function_is_wrong_without_a_hint():
+    ex = BY_ID["st.intersection"]
+    f = ex.reference(parameters_for(ex, STUDENTS[0]))
+    verdict = _judge(ex, STUDENTS[0], lambda *a: f(*a) + 0.01)
+    assert verdict.status == "wrong" and verdict.mistake == "other"
+
+
+def test_a_student_solution_written_from_the_formulas_is_correct():
+    ex = BY_ID["st.intersection"]
+    p = parameters_for(ex, STUDENTS[1])
+
+    def point(x1, y1, x2, y2):
+        px = x1 - x2
+        return np.array([p.B_m * (x1 - p.x0_mm) / px, p.B_m * (y1 - p.y0_mm) / px,
+                         -p.c_mm * p.B_m / px])
+    assert _judge(ex, STUDENTS[1], point).status == "correct"
+
+
+# -- the references by an independent route -------------------------------------------------------
+
+@pytest.mark.parametrize("sid", STUDENTS[:4])
+def test_height_reference_is_the_sympy_derivation(sid):
+    p = parameters_for(BY_ID["st.height"], sid)
+    Z = ds.height_from_parallax().subs({ds.c: sp.Float(p.c_mm, 30), ds.B: sp.Float(p.B_m, 30),
+                                        ds.px: sp.Float(p.px_mm, 30)})
+    assert ch09._height(p) == pytest.approx(float(Z), rel=1e-13)
+    assert ch09._height(p) < 0
+
+
+@pytest.mark.parametrize("sid", STUDENTS[:2])
+def test_sigma_z_reference_by_monte_carlo(sid):
+    p = parameters_for(BY_ID["st.sigma-z"], sid)
+    rng = np.random.default_rng(3)
+    n = 200_000
+    X = np.array([p.B_m / 2, 0.0, -p.h_m])
+    x1 = p.c_mm * X[0] / p.h_m + p.s_x_um * 1e-3 * rng.standard_normal(n)
+    x2 = p.c_mm * (X[0] - p.B_m) / p.h_m + p.s_x_um * 1e-3 * rng.standard_normal(n)
+    Z = -p.c_mm * p.B_m / (x1 - x2)
+    assert np.std(Z) * 1e3 == pytest.approx(ch09._sigma_z(p), rel=0.01)
+
+
+@pytest.mark.parametrize("sid", STUDENTS[:3])
+def test_intersection_reference_agrees_with_opencv(sid):
+    ex = BY_ID["st.intersection"]
+    p = parameters_for(ex, sid)
+    f = ex.reference(p)
+    cases = np.array(ex.cases(rng_for(sid, ex.id, "public"), p))
+    K = np.array([[p.c_mm, 0, p.x0_mm], [0, p.c_mm, -p.y0_mm], [0, 0, 1.0]])
+    P1 = K @ np.column_stack([D, np.zeros(3)])
+    P2 = K @ np.column_stack([D, -D @ [p.B_m, 0.0, 0.0]])
+    H = cv2.triangulatePoints(P1, P2, (cases[:, :2] * [1, -1]).T, (cases[:, 2:] * [1, -1]).T)
+    np.testing.assert_allclose(np.array([f(*case) for case in cases]), (H[:3] / H[3]).T,
+                               rtol=1e-8, atol=1e-8)
+
+
+@pytest.mark.parametrize("sid", STUDENTS[:3])
+def test_essential_reference_is_opencvs_essential_matrix(sid):
+    import photolib as pl
+    p = parameters_for(BY_ID["st.essential"], sid)
+    R1 = pl.rotation_opk(*np.radians([p[n] for n in ch09._ANGLES[:3]]))
+    R2 = pl.rotation_opk(*np.radians([p[n] for n in ch09._ANGLES[3:]]))
+    (Ra, ta), (Rb, tb) = (pl.opencv_pose_from_exterior(p.X01, R1),
+                          pl.opencv_pose_from_exterior(p.X02, R2))
+    Rr, tr = Rb @ Ra.T, tb - Rb @ Ra.T @ ta
+    E_cv = np.array([[0, -tr[2], tr[1]], [tr[2], 0, -tr[0]], [-tr[1], tr[0], 0]]) @ Rr
+    ours = ch09._essential(p)
+    mapped = D @ E_cv.T @ D          # p2ᵀ E_cv p1 = 0 with p = D·x*/c
+    assert min(np.abs(ours - mapped).max(), np.abs(ours + mapped).max()) < 1e-9
+    # and the coplanarity of a projected point
+    X = np.array(p.X01) + [20.0, 3.0, -100.0]
+    xs = [(X - np.array(X0)) @ R for X0, R in ((p.X01, R1), (p.X02, R2))]
+    xs = [k * (-50.0 / k[2]) for k in xs]          # image vectors with c = 50
+    assert abs(xs[0] @ ours @ xs[1]) < 1e-9 * np.abs(ours).max() * 2500
+
+
+def test_unknown_counts_are_the_derived_ones():
+    counts = ds.orientation_unknowns()
+    assert ch09._TASKS[next(t for t in ch09._TASKS if t.startswith("the dependent"))] == \
+        counts["relative"]
+    assert ch09._TASKS[next(t for t in ch09._TASKS if t.startswith("the absolute"))] == \
+        counts["absolute"]
+    assert ch09._TASKS[next(t for t in ch09._TASKS if t.startswith("the exterior"))] == \
+        counts["exterior"]
+    seen = {parameters_for(BY_ID["st.unknowns"], f"s{i}")["correct"] for i in range(60)}
+    assert seen == set("abcde")
