@@ -15,7 +15,7 @@ import nbformat
 from nbclient import NotebookClient
 
 ROOT = Path(__file__).resolve().parents[1]
-CHAPTERS = ["04-rotations", "05-interior-orientation", "06-collinearity",
+CHAPTERS = ["02-optics", "04-rotations", "05-interior-orientation", "06-collinearity",
             "07-plane-transformations", "08-resection-dlt", "09-stereo"]
 FACTOR = 2.5
 

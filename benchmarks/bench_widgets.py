@@ -16,7 +16,7 @@ TARGET_MS = 50.0
 
 
 def _cases():
-    from photolib.nb import distortion, plane, projection, resection, rotations, stereo
+    from photolib.nb import distortion, optics, plane, projection, resection, rotations, stereo
 
     return [
         (rotations.RotationExplorer, "phi", (10.0, 60.0)),
@@ -31,6 +31,9 @@ def _cases():
         (resection.DLTExplorer, "depth", (1.0, 6.0)),
         (stereo.StereoPairExplorer, "B", (10.0, 50.0)),
         (stereo.EpipolarExplorer, "x1", (-10.0, 10.0)),
+        (optics.ThinLensExplorer, "a", (100.0, 300.0)),
+        (optics.DepthOfFieldExplorer, "k", (2.8, 11.0)),
+        (optics.AiryExplorer, "k", (4.0, 11.0)),
     ]
 
 

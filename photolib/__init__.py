@@ -46,6 +46,17 @@ _EXPORTS = {
     "ResectionResult": "resection", "space_resection": "resection",
     "CircleFit": "measurement", "MomentThreshold": "measurement", "fit_circle": "measurement",
     "laplacian_of_gaussian": "measurement", "moment_threshold": "measurement",
+    # chapter 02: optics (thin lens, depth of field, diffraction, refraction, dispersion)
+    "DepthOfField": "optics", "NoRealImageError": "optics",
+    "TotalInternalReflectionError": "optics", "abbe_number": "optics",
+    "airy_encircled_energy": "optics", "airy_psf": "optics", "airy_radius": "optics",
+    "bessel_jn": "optics", "blur_diameter": "optics", "chromatic_focal_shift": "optics",
+    "critical_angle": "optics", "depth_of_field": "optics", "f_number": "optics",
+    "half_aperture_angle": "optics", "half_field_angle": "optics",
+    "hyperfocal_distance": "optics", "image_distance": "optics",
+    "image_scale_number": "optics", "natural_vignetting": "optics", "reflect": "optics",
+    "refract": "optics", "refraction_angle": "optics", "refractive_index": "optics",
+    "stereo_depth_acuity": "optics",
     # chapter 09: stereo (normal case, forward intersection, orientations, epipolar geometry)
     "AbsoluteOrientation": "stereo", "ForwardIntersection": "stereo",
     "RelativeOrientation": "stereo", "StereoAccuracy": "stereo",

@@ -25,6 +25,8 @@ Examples
 
 from __future__ import annotations
 
+import functools
+
 import sympy as sp
 
 n1, n2, h1, h2, d_int, u, c0 = sp.symbols("n1 n2 h1 h2 d u c0", positive=True)
@@ -100,6 +102,7 @@ def blur_diameter(obj_x):
     return d * (apx - apf) / apx
 
 
+@functools.cache
 def dof_limits():
     """Near and far limit ``(a_v, a_h)`` where the blur reaches ``u_p``.
 
@@ -143,3 +146,108 @@ def relative_irradiance():
         solid = A_ap * sp.cos(t) / dist**2     # foreshortened aperture / distance²
         return E0 * solid * sp.cos(t)          # oblique incidence on the sensor
     return sp.simplify(irradiance(tau) / irradiance(0))
+
+
+# -- extensions for chapter 02: hyperfocal distance, diffraction, dispersion, stereo vision -------
+lam, n_glass, n_ref, R1, R2, f_ref = sp.symbols("lambda n n_ref R1 R2 f_ref", positive=True)
+v_airy, eps, base, Z_obj, dZ = sp.symbols("v epsilon b Z Delta_Z", positive=True)
+d_pin = sp.Symbol("d", positive=True)
+
+
+def hyperfocal_distance():
+    """Focus distance at which the far limit goes to infinity: the denominator of a_h is 0.
+
+    Returns ``H = f + f²/(k u')``.
+    """
+    _, far = dof_limits()
+    den = sp.denom(sp.together(far))
+    roots = sp.solve(sp.Eq(den, 0), a)
+    return sp.simplify(roots[0])
+
+
+def airy_first_zero(digits: int = 20):
+    """First positive zero j₁,₁ of the Bessel function J1 (mpmath through ``sp.nsolve``)."""
+    x = sp.Symbol("x", positive=True)
+    return sp.nsolve(sp.besselj(1, x), x, 3.8, prec=digits)
+
+
+def airy_radius_factor(digits: int = 20):
+    """``r_A/(λk) = j₁,₁/π``: the "1.22" of the Airy radius r_A = 1.22·λ·k.
+
+    The Fraunhofer pattern of a circular pupil of diameter d at the image distance f is
+    ``(2J1(v)/v)²`` with ``v = π d r/(λ f) = π r/(λ k)``; its first zero is v = j₁,₁.
+    """
+    return airy_first_zero(digits) / sp.pi
+
+
+def airy_intensity(v=v_airy):
+    """Normalised Airy pattern ``(2 J1(v)/v)²``; its limit at v → 0 is 1."""
+    return (2 * sp.besselj(1, v) / v) ** 2
+
+
+def airy_encircled_energy(v=v_airy):
+    """Rayleigh's encircled energy ``1 − J0(v)² − J1(v)²`` (``d/dv = 2J1(v)²/v``)."""
+    return 1 - sp.besselj(0, v) ** 2 - sp.besselj(1, v) ** 2
+
+
+def encircled_energy_rate_residual():
+    """``dE/dv − (v/2)·I(v)``: the energy of a ring 2πv dv of the pattern, normalised.
+
+    Zero identically: ``E(v) = ½∫₀ᵛ I(t)·t dt`` — so E is the integral of the PSF.
+    """
+    rate = sp.diff(airy_encircled_energy(), v_airy)
+    rate = rate.rewrite(sp.besselj)
+    expr = sp.expand_func(rate - v_airy / 2 * airy_intensity())
+    # J0' = −J1 and J1' = J0 − J1/v: reduce to J0, J1 only
+    J0, J1 = sp.besselj(0, v_airy), sp.besselj(1, v_airy)
+    expr = expr.subs({sp.besselj(2, v_airy): 2 * J1 / v_airy - J0,
+                      sp.besselj(-1, v_airy): -J1})
+    return sp.simplify(expr)
+
+
+SELLMEIER_B = sp.symbols("B1:4", positive=True)
+SELLMEIER_C = sp.symbols("C1:4", positive=True)
+
+
+def sellmeier_index(B=SELLMEIER_B, C=SELLMEIER_C):
+    """Sellmeier dispersion ``n(λ) = √(1 + Σ Bᵢλ²/(λ² − Cᵢ))`` (resonances at λ² = Cᵢ)."""
+    return sp.sqrt(1 + sum(b * lam**2 / (lam**2 - c) for b, c in zip(B, C)))
+
+
+def lensmaker_focal_length(n=n_glass):
+    """Thin-lens lensmaker equation ``1/f = (n − 1)(1/R1 − 1/R2)`` solved for f."""
+    return 1 / ((n - 1) * (1 / R1 - 1 / R2))
+
+
+def chromatic_focal_length():
+    """f(λ) from f at a reference index: ``f_ref·(n_ref − 1)/(n − 1)`` (same R1, R2)."""
+    ratio = sp.simplify(lensmaker_focal_length(n_glass) / lensmaker_focal_length(n_ref))
+    return f_ref * ratio
+
+
+def parallactic_angle(Z=Z_obj):
+    """Parallactic angle γ = 2·atan(b/(2Z)) of a point at distance Z seen with base b."""
+    return 2 * sp.atan(base / (2 * Z))
+
+
+def stereo_depth_acuity_exact():
+    """ΔZ at which γ has dropped by the acuity ε: ``b/(2 tan((γ − ε)/2)) − Z``."""
+    gamma = parallactic_angle(Z_obj)
+    return base / (2 * sp.tan((gamma - eps) / 2)) - Z_obj
+
+
+def stereo_depth_acuity_first_order():
+    """First order in ε of :func:`stereo_depth_acuity_exact`: ``ε(Z² + b²/4)/b ≈ Z²ε/b``."""
+    series = sp.series(stereo_depth_acuity_exact(), eps, 0, 2).removeO()
+    return sp.simplify(series)
+
+
+def pinhole_blur(d=d_pin):
+    """Blur of a pinhole camera: the hole ``d`` (geometric) plus the Airy disk 2·1.22·λc/d."""
+    return d + 2 * sp.Rational(122, 100) * lam * c_cam / d
+
+
+def pinhole_optimum():
+    """Diameter minimising :func:`pinhole_blur`: ``d* = √(2.44 λ c)``."""
+    sol = sp.solve(sp.diff(pinhole_blur(), d_pin), d_pin)
+    return sol[0]

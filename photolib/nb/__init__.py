@@ -10,7 +10,7 @@ Every chapter notebook starts with::
 :func:`setup` checks the installation and sets a common plotting style; the figures and the
 widgets of each chapter live in the submodules (:mod:`photolib.nb.rotations`,
 :mod:`photolib.nb.distortion`, :mod:`photolib.nb.projection`, :mod:`photolib.nb.plane`, :mod:`photolib.nb.resection`,
-:mod:`photolib.nb.stereo`), so that a notebook shows the
+:mod:`photolib.nb.stereo`, :mod:`photolib.nb.optics`), so that a notebook shows the
 idea and not the plumbing. The widgets' callbacks are plain functions, tested in
 ``tests/test_nb.py`` and timed in ``benchmarks/bench_widgets.py``.
 """
@@ -27,6 +27,7 @@ __all__ = [
     "check_environment",
     "distortion",
     "matrix_html",
+    "optics",
     "plane",
     "projection",
     "resection",
@@ -109,6 +110,6 @@ def setup() -> None:
 def __getattr__(name):
     # chapter modules on first use: `nb.rotations` without importing all chapters
     if name in ("rotations", "distortion", "projection", "plane", "resection", "live", "draw",
-                "stereo"):
+                "stereo", "optics"):
         return importlib.import_module(f"photolib.nb.{name}")
     raise AttributeError(f"module 'photolib.nb' has no attribute {name!r}")

@@ -8,7 +8,7 @@ import pytest
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(300)]
 
-CHAPTERS = ["04-rotations", "05-interior-orientation", "06-collinearity",
+CHAPTERS = ["02-optics", "04-rotations", "05-interior-orientation", "06-collinearity",
             "07-plane-transformations", "08-resection-dlt", "09-stereo"]
 
 

@@ -1,0 +1,307 @@
+"""Chapter 02-optics: graded exercises on the optics of the camera.
+
+* ``opt.image-distance`` (number): image distance a' of a thin lens (mm; a given in m);
+* ``opt.depth-of-field`` (array): near limit, far limit and depth of field (m), with the
+  lecture summary's printed-wrong t formula (``de-summary:depth-of-field-t``) recognised;
+* ``opt.airy-radius`` (number): radius of the Airy disk 1.22·λ·k in µm (λ given in nm);
+* ``opt.snell`` (number): angle of refraction in degrees;
+* ``opt.vignetting-corner`` (number): natural vignetting cos⁴τ at the corner of the format;
+* ``opt.dof-limit`` (expression): a depth-of-field limit or the depth, derived with SymPy;
+* ``opt.stop-down`` (choice): what stopping down does to depth of field and diffraction.
+
+References come from :mod:`photolib.optics` and :mod:`photolib.derive.optics`.
+
+>>> [ex.id for ex in EXERCISES]  # doctest: +NORMALIZE_WHITESPACE
+['opt.image-distance', 'opt.depth-of-field', 'opt.airy-radius', 'opt.snell',
+ 'opt.vignetting-corner', 'opt.dof-limit', 'opt.stop-down']
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from photolib.grading import hints
+from photolib.grading.spec import Exercise, Mistake
+
+CHAPTER = "02-optics"
+
+_LENSES = (14.0, 20.0, 24.0, 28.0, 35.0, 50.0, 85.0, 100.0, 135.0, 200.0)
+_STOPS = (1.4, 2.0, 2.8, 4.0, 5.6, 8.0, 11.0, 16.0, 22.0)
+
+
+# -- 1. image distance (number) -------------------------------------------------------------------
+def _image_params(rng):
+    f = float(rng.choice(_LENSES))
+    return {"f_mm": f, "a_m": round(float(rng.uniform(3.0, 60.0) * f * 1e-3), 3)}
+
+
+def _image_distance(p, sign=-1.0):
+    a = p["a_m"] * 1e3
+    return a * p["f_mm"] / (a + sign * p["f_mm"])
+
+
+image_distance = Exercise(
+    id="opt.image-distance", points=2, kind="number", answer="a_image",
+    title="Image distance / Bildweite",
+    statement="A thin lens of focal length f = {f_mm} mm is focused on an object at the "
+              "distance a = {a_m} m in front of it. How far behind the lens is the sharp "
+              "image (image distance a′, in mm)?",
+    parameters=_image_params, reference=_image_distance, rtol=1e-5, atol=0.0,
+    mistakes=(
+        Mistake("sign", "the imaging equation is 1/a + 1/a′ = 1/f, so 1/a′ = 1/f − 1/a "
+                        "(not + 1/a)", lambda p: _image_distance(p, sign=+1.0)),
+        Mistake("approximation", "a′ = f holds only for an object at infinity; here a is "
+                                 "finite: a′ = a·f/(a − f)", lambda p: p["f_mm"]),
+        Mistake("units-mm-m", "a is in m and f in mm: convert a to mm before using "
+                              "the imaging equation",
+                lambda p: p["a_m"] * p["f_mm"] / (p["a_m"] - p["f_mm"])),
+    ))
+
+
+# -- 2. depth of field (array) ------------------------------------------------------------------
+def _dof_params(rng):
+    f = float(rng.choice(_LENSES[3:8]))
+    k = float(rng.choice(_STOPS[2:8]))
+    u_um = float(rng.choice([20.0, 25.0, 30.0, 33.0]))
+    H = f + f * f / (k * u_um * 1e-3)
+    return {"f_mm": f, "k": k, "u_um": u_um,
+            "a_m": round(float(rng.uniform(0.15, 0.6) * H * 1e-3), 2)}
+
+
+def _dof(p, u_factor=1.0):
+    import photolib.optics as po
+    d = po.depth_of_field(p["a_m"] * 1e3, p["f_mm"], p["k"], p["u_um"] * 1e-3 * u_factor)
+    return np.array([d.near, d.far, d.depth]) * 1e-3
+
+
+def _dof_printed_t(expr, p):
+    import sympy as sp
+
+    from photolib.derive import optics as do
+    f, a = p["f_mm"], p["a_m"] * 1e3
+    m_b = (a - f) / f
+    t = float(expr.subs({do.m_b: m_b, do.f: f, do.k: p["k"], do.up: p["u_um"] * 1e-3})
+              if isinstance(expr, sp.Basic) else expr)
+    near, far, _ = _dof(p)
+    return np.array([near, far, t * 1e-3])
+
+
+depth_of_field = Exercise(
+    id="opt.depth-of-field", points=3, kind="array", answer="dof",
+    title="Depth of field / Schärfentiefe",
+    statement="A camera with a lens of f = {f_mm} mm at f-number k = {k} is focused on "
+              "a = {a_m} m. The permissible circle of confusion is u′ = {u_um} µm. Give the "
+              "near limit a_v, the far limit a_h and the depth of field t = a_h − a_v, all in "
+              "m, as a NumPy array (a_v, a_h, t) of shape (3,).",
+    parameters=_dof_params, reference=_dof, rtol=1e-4, atol=1e-6,
+    mistakes=(
+        hints.erratum_version("de-summary:depth-of-field-t", _dof_printed_t, "printed"),
+        Mistake("swapped", "the near limit a_v is the smaller distance: a_v = a·f²/(f² + u′k(a − f))",
+                lambda p: _dof(p)[[1, 0, 2]] * np.array([1.0, 1.0, -1.0])),
+        Mistake("radius", "u′ is the diameter of the circle of confusion, not its radius",
+                lambda p: _dof(p, 0.5)),
+    ))
+
+
+# -- 3. Airy radius (number) ----------------------------------------------------------------------
+def _airy_params(rng):
+    return {"wavelength_nm": float(rng.choice([450.0, 500.0, 550.0, 600.0, 650.0])),
+            "k": float(rng.choice(_STOPS))}
+
+
+def _airy(p, factor=1.0):
+    import photolib.optics as po
+    return po.airy_radius(p["wavelength_nm"] * 1e-3, p["k"]) * factor
+
+
+_NM = ("λ was given in nm and the result read as µm (or the other way round): "
+       "1 µm = 1000 nm")
+
+airy_radius = Exercise(
+    id="opt.airy-radius", points=2, kind="number", answer="r_airy",
+    title="Airy disk / Beugungsscheibchen",
+    statement="A diffraction-limited lens works at f-number k = {k} in light of wavelength "
+              "λ = {wavelength_nm} nm. What is the radius of the Airy disk (the first dark "
+              "ring of the diffraction pattern) in the image, in µm?",
+    parameters=_airy_params, reference=_airy, rtol=1e-3, atol=0.0,
+    mistakes=(
+        Mistake("units-nm-um", _NM, lambda p: _airy(p, 1e3)),
+        Mistake("units-nm-um", _NM, lambda p: _airy(p, 1e-3)),
+        Mistake("diameter", "that is the diameter 2·1.22·λ·k; the radius is half of it",
+                lambda p: _airy(p, 2.0)),
+        Mistake("factor", "the radius of the first dark ring is 1.22·λ·k (the first zero of "
+                          "J1 over π); λ·k alone is missing the factor 1.22",
+                lambda p: _airy(p, 1.0 / 1.2196698912665045)),
+    ))
+
+
+# -- 4. Snell (number) ----------------------------------------------------------------------------
+_MEDIA = {"air": 1.0, "water": 1.333}
+
+
+def _snell_params(rng):
+    medium = str(rng.choice(sorted(_MEDIA)))
+    return {"medium": medium, "n1": _MEDIA[medium],
+            "n2": round(float(rng.uniform(1.45, 1.8)), 3),
+            "alpha_deg": round(float(rng.uniform(10.0, 75.0)), 1)}
+
+
+def _snell(p, n1=None, n2=None, degrees_as_radians=False):
+    n1 = p["n1"] if n1 is None else n1
+    n2 = p["n2"] if n2 is None else n2
+    alpha = p["alpha_deg"] if degrees_as_radians else math.radians(p["alpha_deg"])
+    s = n1 * math.sin(alpha) / n2
+    return None if abs(s) > 1 else math.degrees(math.asin(s))
+
+
+snell = Exercise(
+    id="opt.snell", points=2, kind="number", answer="beta_deg",
+    title="Refraction / Lichtbrechung (Snell)",
+    statement="A ray passes from {medium} (n1 = {n1}) into glass (n2 = {n2}) at the angle of "
+              "incidence α = {alpha_deg}° to the normal. What is the angle of refraction β "
+              "in degrees?",
+    parameters=_snell_params, reference=_snell, rtol=0.0, atol=1e-4,
+    mistakes=(
+        Mistake("degrees", "that is β in radians; the question asks for degrees "
+                           "(numpy.degrees)", lambda p: math.radians(_snell(p))),
+        Mistake("degrees", hints.MESSAGES["degrees"],
+                lambda p: _snell(p, degrees_as_radians=True)),
+        Mistake("swapped", "n1 and n2 are swapped: n1·sin α = n2·sin β with n1 on the side "
+                           "of the incoming ray", lambda p: _snell(p, n1=p["n2"], n2=p["n1"])),
+    ))
+
+
+# -- 5. cos⁴ at the corner (number) ---------------------------------------------------------------
+_FORMATS = {"36 mm × 24 mm": (36.0, 24.0), "23.5 mm × 15.6 mm": (23.5, 15.6),
+            "13.2 mm × 8.8 mm": (13.2, 8.8), "60 mm × 45 mm": (60.0, 45.0)}
+
+
+def _corner_params(rng):
+    name = str(rng.choice(sorted(_FORMATS)))
+    w, h = _FORMATS[name]
+    return {"format": name, "width": w, "height": h,
+            "c_mm": round(float(rng.uniform(0.5, 1.5) * math.hypot(w, h)), 1)}
+
+
+def _corner(p, power=4, half=True, side=False):
+    r = p["width"] / 2 if side else math.hypot(p["width"], p["height"]) / (2 if half else 1)
+    return math.cos(math.atan(r / p["c_mm"])) ** power
+
+
+vignetting_corner = Exercise(
+    id="opt.vignetting-corner", points=2, kind="number", answer="E_corner",
+    title="Natural vignetting at the corner / Lichtabfall in der Bildecke",
+    statement="A camera with the format {format} and camera constant c = {c_mm} mm has an "
+              "ideal lens with only natural vignetting. What fraction E(τ)/E(0) of the "
+              "irradiance in the image centre reaches a corner of the format?",
+    parameters=_corner_params, reference=_corner, rtol=1e-5, atol=0.0,
+    mistakes=(
+        Mistake("power", "the fall-off is cos⁴τ: cos²τ from the distance, one cos τ from "
+                         "the foreshortened aperture, one from the oblique incidence",
+                lambda p: _corner(p, power=2)),
+        Mistake("power", "the fall-off is cos⁴τ, not cos³τ: the oblique incidence on the "
+                         "sensor adds the fourth cos τ", lambda p: _corner(p, power=3)),
+        Mistake("half", "the corner is half the diagonal from the centre: tan τ = (d/2)/c",
+                lambda p: _corner(p, half=False)),
+        Mistake("side", "the corner is at half the diagonal, not at half the format width",
+                lambda p: _corner(p, side=True)),
+    ))
+
+
+# -- 6. a depth-of-field limit derived (expression) -----------------------------------------------
+_QUANTITIES = {
+    "near": "the near limit a_v",
+    "far": "the far limit a_h",
+    "depth": "the depth of field t = a_h − a_v",
+}
+
+
+def _limit_params(rng):
+    q = str(rng.choice(sorted(_QUANTITIES)))
+    return {"quantity": q, "text": _QUANTITIES[q], "n": int(rng.integers(5, 41))}
+
+
+def _plain(expr, p):
+    import sympy as sp
+
+    from photolib.derive import optics as do
+    f = sp.Symbol("f")
+    return sp.factor(expr.xreplace({do.f: f, do.k: sp.Symbol("k"), do.up: sp.Symbol("u")})
+                     .xreplace({do.a: p["n"] * f}))
+
+
+def _limit(p, quantity=None):
+    from photolib.derive import optics as do
+    q = p["quantity"] if quantity is None else quantity
+    near, far = do.dof_limits()
+    return _plain({"near": near, "far": far, "depth": far - near}[q], p)
+
+
+def _limit_printed(expr, p):
+    """The summary's printed t with its m_b = a/a' − ... = n − 1 (a = n·f)."""
+    from photolib.derive import optics as do
+    if p["quantity"] != "depth":
+        return None
+    return _plain(expr.xreplace({do.m_b: p["n"] - 1}), p)
+
+
+dof_limit = Exercise(
+    id="opt.dof-limit", points=3, kind="expression", answer="limit", symbols=("f", "k", "u"),
+    title="Depth-of-field limits derived / Herleitung der Schärfentiefe",
+    statement="A thin lens of focal length f and f-number k is focused on an object at the "
+              "distance a = {n}·f from the lens; u is the permissible blur diameter in the "
+              "image. An object at a_x focuses at a′_x = a_x·f/(a_x − f) and leaves a blur "
+              "circle u′ = (f/k)·|a′_x − a′|/a′_x in the image plane of a. Derive {text} as "
+              "a SymPy expression in the symbols f, k, u.",
+    parameters=_limit_params, reference=_limit,
+    mistakes=(
+        hints.erratum_version("de-summary:depth-of-field-t", _limit_printed, "printed"),
+        Mistake("swapped", "near and far limit are swapped: the near limit has + u·k(a − f) "
+                           "in the denominator, the far limit − u·k(a − f)",
+                lambda p: None if p["quantity"] == "depth" else
+                _limit(p, "far" if p["quantity"] == "near" else "near")),
+        Mistake("sign", "t = a_h − a_v is positive: the far limit minus the near limit",
+                lambda p: None if p["quantity"] != "depth" else -_limit(p)),
+    ))
+
+
+# -- 7. stopping down (choice) --------------------------------------------------------------------
+_OPTIONS = (
+    "the depth of field grows and the Airy disk becomes twice as large",
+    "the depth of field shrinks and the Airy disk becomes half as large",
+    "the depth of field grows and the Airy disk becomes half as large",
+    "the depth of field and the Airy disk stay the same; only the exposure changes",
+)
+
+
+def _choice_params(rng):
+    order = [int(i) for i in rng.permutation(len(_OPTIONS))]
+    keys = "abcd"
+    text = "; ".join(f"({keys[i]}) {_OPTIONS[j]}" for i, j in enumerate(order))
+    k = float(rng.choice(_STOPS[1:5]))
+    return {"k": k, "k2": 2 * k, "options": text,
+            "correct": keys[order.index(0)], "wrong_shrinks": keys[order.index(1)],
+            "wrong_halves": keys[order.index(2)]}
+
+
+stop_down = Exercise(
+    id="opt.stop-down", points=1, kind="choice", answer="choice_stop",
+    title="Stopping down / Abblenden",
+    statement="A photographer stops a lens down from f-number k = {k} to k = {k2} (twice "
+              "the f-number) and keeps the focus. Which is right? {options}. Set the answer "
+              "to the letter.",
+    parameters=_choice_params, reference=lambda p: p["correct"],
+    choices=dict(zip("abcd", _OPTIONS)),
+    mistakes=(
+        Mistake("stop", "a larger k means a smaller pupil d = f/k: the light cones get "
+                        "narrower, so the depth of field grows; diffraction grows with k "
+                        "(r = 1.22·λ·k)", lambda p: p["wrong_shrinks"]),
+        Mistake("stop", "the depth of field does grow, but the Airy radius 1.22·λ·k grows "
+                        "with k: twice k, twice the disk", lambda p: p["wrong_halves"]),
+    ))
+
+
+EXERCISES = (image_distance, depth_of_field, airy_radius, snell, vignetting_corner, dof_limit,
+             stop_down)

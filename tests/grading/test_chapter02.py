@@ -1,0 +1,235 @@
+"""The exercises of chapter 02 (optics), judged as the grader does.
+
+The same checks as for chapter 08 (reference accepted, every declared mistake recognised with
+its hint, variants differ, untouched answers not answered), plus checks of the references by
+independent routes: intersecting the construction rays with ``numpy.linalg.solve``, root
+finding on the light cone, SciPy's Bessel zeros, Fermat's principle minimised with
+``scipy.optimize``, and the corner ray's angle from a dot product.
+"""
+
+from __future__ import annotations
+
+import math
+import pickle
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import sympy as sp
+from scipy import optimize, special
+
+from photolib.grading.encode import decode_value, encode_value
+from photolib.grading.exercises import ch02_optics as ch02
+from photolib.grading.exercises import chapter
+from photolib.grading.judge import judge
+from photolib.grading.notebook import parameters_for
+
+from .conftest import ROOT
+
+EXERCISES = ch02.EXERCISES
+BY_ID = {ex.id: ex for ex in EXERCISES}
+STUDENTS = ("s1000001", "s1000002", "s1000003", "s2345678", "s3000004", "s3000005")
+
+
+def _judge(ex, sid, value):
+    return judge(ex, parameters_for(ex, sid), decode_value(encode_value(value)))
+
+
+def _sid_with(ex, **wanted):
+    return next(s for s in (f"s{i}" for i in range(500))
+                if all(parameters_for(ex, s)[k] == v for k, v in wanted.items()))
+
+
+# -- the same checks as for the other chapters ---------------------------------------------------
+
+def test_module_is_the_registered_chapter():
+    assert ch02.CHAPTER == "02-optics"
+    assert chapter("02-optics") == EXERCISES
+    assert len(EXERCISES) >= 4
+    assert {"number", "array", "expression", "choice"} <= {ex.kind for ex in EXERCISES}
+
+
+@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
+@pytest.mark.parametrize("sid", STUDENTS[:3])
+def test_reference_is_accepted(ex, sid):
+    verdict = _judge(ex, sid, ex.reference(parameters_for(ex, sid)))
+    assert verdict.status == "correct", verdict.message
+    assert verdict.points == ex.points
+
+
+@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
+def test_each_mistake_is_recognised_with_its_hint(ex):
+    assert ex.mistakes, f"{ex.id} declares no mistakes"
+    for index, mistake in enumerate(ex.mistakes):
+        applied = 0
+        for sid in STUDENTS + tuple(f"s{i}" for i in range(40)):
+            wrong = mistake.wrong(parameters_for(ex, sid))
+            if wrong is None:
+                continue
+            applied += 1
+            verdict = _judge(ex, sid, wrong)
+            assert verdict.status == "wrong", (ex.id, index, sid)
+            assert verdict.mistake == mistake.tag, (ex.id, index, sid, verdict.message)
+            assert verdict.message == f"not correct: {mistake.message}", (ex.id, index, sid)
+            if applied >= 4:
+                break
+        assert applied, f"{ex.id}: mistake {index} ({mistake.tag}) never applies"
+
+
+@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
+def test_students_get_different_variants(ex):
+    a, b, c = (parameters_for(ex, sid) for sid in STUDENTS[:3])
+    assert a != b or a != c
+    assert parameters_for(ex, STUDENTS[0]) == a
+    statements = {ex.statement.format(**p) for p in (a, b, c)}
+    assert len(statements) >= 2
+
+
+@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
+def test_untouched_answer_is_not_answered(ex):
+    assert _judge(ex, STUDENTS[0], ...).status == "not-answered"
+
+
+def test_the_printed_wrong_t_formula_gets_the_erratum_hint():
+    ex = BY_ID["opt.depth-of-field"]
+    p = parameters_for(ex, STUDENTS[0])
+    f, a, k, u = p["f_mm"], p["a_m"] * 1e3, p["k"], p["u_um"] * 1e-3
+    m_b = (a - f) / f                                  # the scale number, as the summary names it
+    t_printed = 2 * u * k * (1 + m_b) / (m_b**2 - (u * k / f) ** 2)
+    ref = ch02._dof(p)
+    verdict = _judge(ex, STUDENTS[0], np.array([ref[0], ref[1], t_printed * 1e-3]))
+    assert verdict.status == "wrong" and verdict.mistake == "erratum"
+    assert "de-summary:depth-of-field-t" in verdict.message
+
+
+_GRADE = """
+import pickle, sys
+from photolib.grading.batch import grade_batch
+from photolib.grading.sandbox import Limits
+results = grade_batch(sys.argv[2:], Limits(timeout=60), jobs=1)
+with open(sys.argv[1], "wb") as f:
+    pickle.dump({r.submission: r for r in results}, f)
+"""
+
+
+def test_master_gets_full_marks_and_the_untouched_copy_zero(tmp_path):
+    master = ROOT / "solutions" / "02-optics.ipynb"
+    copy = ROOT / "exercises" / "02-optics.ipynb"
+    out = tmp_path / "graded.pickle"
+    # the grader runs in a process of its own, as an instructor runs it
+    proc = subprocess.run([sys.executable, "-c", _GRADE, str(out), str(master), str(copy)],
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    with open(out, "rb") as f:
+        graded = pickle.load(f)
+    r = graded[str(master)]
+    assert r.status == "ok", r.detail
+    assert r.total == r.max_total == sum(ex.points for ex in EXERCISES)
+    r = graded[str(copy)]
+    assert r.status == "no-student-id" and r.total == 0 and r.max_total > 0
+    assert {j.status for j in r.judgements} == {"not-answered"}
+    assert r.output.count("not answered yet") == len(EXERCISES)
+
+
+# -- the references by an independent route ------------------------------------------------------
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_image_distance_is_where_the_construction_rays_meet(sid):
+    p = parameters_for(BY_ID["opt.image-distance"], sid)
+    a, f, H = p["a_m"] * 1e3, p["f_mm"], 1.0
+    # centre ray y = −H z/a and focal ray y = H(1 − z/f): solve for (z, y)
+    A = np.array([[H / a, 1.0], [H / f, 1.0]])
+    z, _ = np.linalg.solve(A, [0.0, H])
+    assert math.isclose(ch02._image_distance(p), z, rel_tol=1e-12)
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_depth_of_field_limits_are_roots_of_the_cone_blur(sid):
+    p = parameters_for(BY_ID["opt.depth-of-field"], sid)
+    a, f, k, u = p["a_m"] * 1e3, p["f_mm"], p["k"], p["u_um"] * 1e-3
+
+    def blur(x):
+        apx, ap = x * f / (x - f), a * f / (a - f)
+        return f / k * abs(apx - ap) / apx - u
+    near = optimize.brentq(blur, 1.001 * f, a)
+    far = optimize.brentq(blur, a, 1e9)
+    np.testing.assert_allclose(ch02._dof(p), np.array([near, far, far - near]) * 1e-3, rtol=1e-8)
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_airy_radius_from_scipys_first_zero_of_j1(sid):
+    p = parameters_for(BY_ID["opt.airy-radius"], sid)
+    expected = special.jn_zeros(1, 1)[0] / math.pi * p["wavelength_nm"] * 1e-3 * p["k"]
+    assert math.isclose(ch02._airy(p), expected, rel_tol=1e-14)
+    # the rounded 1.22 is accepted as well
+    assert _judge(BY_ID["opt.airy-radius"], sid,
+                  1.22 * p["wavelength_nm"] * 1e-3 * p["k"]).status == "correct"
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_snell_reference_is_fermats_path(sid):
+    p = parameters_for(BY_ID["opt.snell"], sid)
+    n1, n2 = p["n1"], p["n2"]
+    alpha = math.radians(p["alpha_deg"])
+    # choose the end point below the interface so that the stationary path enters at α
+    x_end = math.tan(alpha) + 1.0
+
+    def T(u):
+        return n1 * math.hypot(1.0, u) + n2 * math.hypot(1.0, x_end - u)
+    u = optimize.minimize_scalar(T, bounds=(0.0, x_end), method="bounded",
+                                 options={"xatol": 1e-13}).x
+    a_found, b_found = math.atan(u), math.atan(x_end - u)
+    ours = math.degrees(math.asin(n1 * math.sin(a_found) / n2))
+    assert math.isclose(ours, math.degrees(b_found), abs_tol=1e-5)
+    assert 0.0 < ch02._snell(p) < p["alpha_deg"]      # into the denser glass: towards the normal
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_corner_vignetting_from_the_corner_ray(sid):
+    p = parameters_for(BY_ID["opt.vignetting-corner"], sid)
+    ray = np.array([p["width"] / 2, p["height"] / 2, -p["c_mm"]])
+    cos_tau = -ray[2] / np.linalg.norm(ray)
+    assert math.isclose(ch02._corner(p), cos_tau**4, rel_tol=1e-13)
+
+
+@pytest.mark.parametrize("quantity", ["near", "far", "depth"])
+def test_dof_limit_expressions_agree_with_root_finding(quantity):
+    ex = BY_ID["opt.dof-limit"]
+    sid = _sid_with(ex, quantity=quantity)
+    p = parameters_for(ex, sid)
+    f, k, u = sp.symbols("f k u")
+    fn = sp.lambdify((f, k, u), ex.reference(p))
+    F, K, U = 50.0, 8.0, 0.01
+    A = p["n"] * F
+
+    def blur(x):
+        apx, ap = x * F / (x - F), A * F / (A - F)
+        return F / K * abs(apx - ap) / apx - U
+    near = optimize.brentq(blur, 1.0001 * F, A)
+    far = optimize.brentq(blur, A, 1e12)
+    expected = {"near": near, "far": far, "depth": far - near}[quantity]
+    assert math.isclose(fn(F, K, U), expected, rel_tol=1e-8)
+
+
+def test_dof_limit_accepts_a_typed_formula():
+    ex = BY_ID["opt.dof-limit"]
+    sid = _sid_with(ex, quantity="near")
+    n = parameters_for(ex, sid)["n"]
+    typed = f"{n}*f*f**2/(f**2 + u*k*({n}*f - f))"
+    assert _judge(ex, sid, typed).status == "correct"
+    assert _judge(ex, sid, f"{n}*f*f**2/(f**2 - u*k*({n}*f - f))").mistake == "swapped"
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_choice_reference_points_at_the_right_statement(sid):
+    ex = BY_ID["opt.stop-down"]
+    p = parameters_for(ex, sid)
+    assert f"({p['correct']}) the depth of field grows and the Airy disk becomes twice" \
+        in p["options"]
+    # the physics behind it: twice k doubles the Airy radius and lengthens the depth of field
+    import photolib.optics as po
+    assert math.isclose(po.airy_radius(0.55, 2 * p["k"]), 2 * po.airy_radius(0.55, p["k"]))
+    d1 = po.depth_of_field(3000.0, 50.0, p["k"], 0.03)
+    d2 = po.depth_of_field(3000.0, 50.0, 2 * p["k"], 0.03)
+    assert d2.depth > d1.depth
