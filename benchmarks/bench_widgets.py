@@ -16,7 +16,8 @@ TARGET_MS = 50.0
 
 
 def _cases():
-    from photolib.nb import distortion, optics, plane, projection, resection, rotations, stereo
+    from photolib.nb import (distortion, glossary, measurement, optics, plane, products, projection,
+                             resection, rotations, stereo)
 
     return [
         (rotations.RotationExplorer, "phi", (10.0, 60.0)),
@@ -34,6 +35,14 @@ def _cases():
         (optics.ThinLensExplorer, "a", (100.0, 300.0)),
         (optics.DepthOfFieldExplorer, "k", (2.8, 11.0)),
         (optics.AiryExplorer, "k", (4.0, 11.0)),
+        (measurement.LoGExplorer, "sigma", (1.0, 3.5)),
+        (measurement.ThresholdExplorer, "radius", (3.0, 10.0)),
+        (measurement.EllipseExplorer, "arc_deg", (60.0, 360.0)),
+        (measurement.LSMExplorer, "offset", (0.5, 3.0)),
+        (products.ReliefExplorer, "h", (10.0, 50.0)),
+        (products.OrthoErrorExplorer, "amplitude", (0.5, 2.0)),
+        (products.TrueOrthoExplorer, "height", (10.0, 40.0)),
+        (glossary.GlossaryExplorer, "query", ("ortho", "kalibr")),
     ]
 
 

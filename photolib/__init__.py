@@ -46,6 +46,14 @@ _EXPORTS = {
     "ResectionResult": "resection", "space_resection": "resection",
     "CircleFit": "measurement", "MomentThreshold": "measurement", "fit_circle": "measurement",
     "laplacian_of_gaussian": "measurement", "moment_threshold": "measurement",
+    # chapter 11: image measurement (LoG image filter, edges, centroid, ellipse, plane, LSM)
+    "Centroid": "measurement", "EdgePoints": "measurement", "edge_points": "measurement",
+    "log_filter": "measurement", "sobel_gradient": "measurement",
+    "weighted_centroid": "measurement", "zero_crossings": "measurement",
+    "Ellipse": "fitting", "EllipseFit": "fitting", "Plane": "fitting", "PlaneFit": "fitting",
+    "circle_from_conic": "fitting", "conic_to_ellipse": "fitting", "fit_ellipse": "fitting",
+    "fit_plane": "fitting", "plane_through_points": "fitting",
+    "LSMResult": "matching", "least_squares_matching": "matching",
     # chapter 02: optics (thin lens, depth of field, diffraction, refraction, dispersion)
     "DepthOfField": "optics", "NoRealImageError": "optics",
     "TotalInternalReflectionError": "optics", "abbe_number": "optics",
@@ -66,6 +74,12 @@ _EXPORTS = {
     "normal_case_accuracy": "stereo", "normal_case_points": "stereo",
     "normal_case_rotation": "stereo", "normalised_image_points": "stereo",
     "relative_orientation": "stereo",
+    # chapter 12: products (orthophoto, true orthophoto, mosaic) and the glossary
+    "DTM": "orthophoto", "FrameCamera": "orthophoto", "OutsideModelError": "orthophoto",
+    "differential_rectification": "orthophoto", "mosaic_nearest_nadir": "orthophoto",
+    "ortho_pixel_positions": "orthophoto", "relief_displacement": "orthophoto",
+    "true_orthophoto": "orthophoto", "visibility": "orthophoto",
+    "load_glossary": "glossary",
 }
 
 __all__ = sorted(_EXPORTS)

@@ -163,3 +163,310 @@ def test_fit_circle_bad_input():
         fit_circle(np.zeros((3, 3)))
     with pytest.raises(ValueError, match="non-finite"):
         fit_circle([[0, 0], [1, np.inf], [2, 0]])
+
+
+# ---------------------------------------------------------------- LoG filtering, zero crossings
+
+import cv2  # noqa: E402
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+from photolib.fitting import (  # noqa: E402
+    circle_from_conic,
+    conic_to_ellipse,
+    fit_ellipse,
+    fit_plane,
+    plane_through_points,
+)
+from photolib.measurement import (  # noqa: E402
+    edge_points,
+    gaussian_radius,
+    log_filter,
+    log_kernel_1d,
+    sobel_gradient,
+    weighted_centroid,
+    zero_crossings,
+)
+from photolib.transforms._base import DegenerateGeometryError  # noqa: E402
+
+
+def _scene(seed=30, shape=(48, 64)):
+    rng = np.random.default_rng(seed)
+    return rng.uniform(0, 255, shape)
+
+
+@pytest.mark.parametrize("sigma", [1.0, 1.7, 3.0])
+def test_log_filter_matches_scipy_gaussian_laplace(sigma):
+    """SciPy samples the same separable kernels (mirrored borders); ours fixes Σg'' = 0."""
+    img = ndimage.gaussian_filter(_scene(), 1.0)
+    ours = log_filter(img, sigma)
+    ref = ndimage.gaussian_laplace(img, sigma, mode="reflect", truncate=4.0)
+    assert np.max(np.abs(ours - ref)) < 1.5e-2 * np.max(np.abs(ref))
+
+
+def test_log_filter_is_exact_on_a_quadratic_where_scipy_is_not():
+    """∇²(x² + y²) = 4: the zero-sum, second-moment-normalised g'' gets it exactly."""
+    yy, xx = np.mgrid[:41, :41].astype(float)
+    img = (xx - 20.0) ** 2 + (yy - 20.0) ** 2
+    inner = (slice(14, -14), slice(14, -14))
+    np.testing.assert_allclose(log_filter(img, 1.5)[inner], 4.0, rtol=1e-10)
+    scipy_inner = ndimage.gaussian_laplace(img, 1.5)[inner]
+    assert np.max(np.abs(scipy_inner - 4.0)) > 1e-4  # sampled tails: not exact
+
+
+def test_log_filter_matches_opencv_blur_then_laplacian_inside():
+    """cv2.GaussianBlur followed by cv2.Laplacian (3 × 3, discrete) is the same LoG up to
+    the discretisation of ∇²; on a smooth image they agree inside the borders."""
+    img = ndimage.gaussian_filter(_scene(31, (80, 80)), 3.0)
+    sigma = 2.5
+    k = 2 * gaussian_radius(sigma) + 1
+    cv = cv2.Laplacian(cv2.GaussianBlur(img, (k, k), sigma, borderType=cv2.BORDER_REFLECT),
+                       cv2.CV_64F, ksize=1, borderType=cv2.BORDER_REFLECT)
+    ours = log_filter(img, sigma)
+    inner = (slice(15, -15), slice(15, -15))
+    assert np.max(np.abs(ours[inner] - cv[inner])) < 0.05 * np.max(np.abs(ours[inner]))
+
+
+def test_log_kernel_is_the_sampled_5_42():
+    """The 2-D outer combination of the 1-D kernels is ∇²G (5.42) sampled, up to the sum normalisation."""
+    sigma = 2.0
+    g, g2 = log_kernel_1d(sigma)
+    K = np.outer(g, g2) + np.outer(g2, g)
+    r = np.arange(len(g)) - len(g) // 2
+    ref = laplacian_of_gaussian(np.hypot(*np.meshgrid(r, r)), sigma)
+    assert np.max(np.abs(K - ref)) < 2e-2 * np.max(np.abs(ref))
+    assert abs(K.sum()) < 1e-12
+
+
+def test_log_zero_crossing_of_a_step_is_at_the_edge():
+    img = np.zeros((20, 40))
+    img[:, 20:] = 100.0  # edge between col 19 and 20
+    zc = zero_crossings(log_filter(img, 2.0), threshold=1.0)
+    cols = np.unique(np.nonzero(zc)[1])
+    assert set(cols) <= {19, 20} and len(cols) >= 1
+
+
+def test_log_zero_crossings_of_a_disc_lie_on_its_rim():
+    yy, xx = np.mgrid[:61, :61]
+    img = 200.0 * (np.hypot(xx - 30.2, yy - 29.7) < 12.0)
+    zc = zero_crossings(log_filter(img, 1.5), threshold=5.0)
+    r = np.hypot(*(np.argwhere(zc)[:, ::-1] - [30.2, 29.7]).T)
+    assert len(r) > 50 and np.all(np.abs(r - 12.0) < 1.2)
+
+
+def test_log_filter_bad_input():
+    with pytest.raises(ValueError, match="sigma must be > 0"):
+        log_filter(np.zeros((5, 5)), -1.0)
+    with pytest.raises(ValueError, match=r"image has shape \(5,\)"):
+        log_filter(np.zeros(5), 1.0)
+    img = np.zeros((5, 5))
+    img[2, 2] = np.nan
+    with pytest.raises(ValueError, match=r"image contains a non-finite value nan at index \(2, 2\)"):
+        log_filter(img, 1.0)
+    with pytest.raises(ValueError, match="threshold must be ≥ 0"):
+        zero_crossings(np.zeros((4, 4)), -1.0)
+
+
+# ---------------------------------------------------------------- gradient edges
+
+
+def test_sobel_matches_opencv():
+    img = _scene(32)
+    gc, gr = sobel_gradient(img)
+    cv_c = cv2.Sobel(img, cv2.CV_64F, 1, 0, ksize=3, borderType=cv2.BORDER_REFLECT) / 8
+    cv_r = cv2.Sobel(img, cv2.CV_64F, 0, 1, ksize=3, borderType=cv2.BORDER_REFLECT) / 8
+    np.testing.assert_allclose(gc, cv_c, atol=1e-10)
+    np.testing.assert_allclose(gr, cv_r, atol=1e-10)
+
+
+@pytest.mark.parametrize("angle_deg", [0.0, 25.0, 60.0])
+def test_subpixel_edge_of_a_blurred_straight_edge(angle_deg):
+    """A smooth step (erf profile) across the line n·p = d: edge points lie on that line."""
+    from scipy.special import erf
+
+    a = np.radians(angle_deg)
+    n = np.array([np.cos(a), np.sin(a)])
+    yy, xx = np.mgrid[:40, :40].astype(float)
+    d = 20.37 * (n[0] + n[1]) / 1.0
+    img = 50 + 100 * (1 + erf((xx * n[0] + yy * n[1] - d) / (np.sqrt(2) * 1.2))) / 2
+    e = edge_points(img, 5.0)
+    inner = np.all((e.colrow > 4) & (e.colrow < 35), axis=1)
+    dist = e.colrow[inner] @ n - d
+    assert inner.sum() > 20
+    assert np.max(np.abs(dist)) < (0.03 if angle_deg == 0.0 else 0.1)  # oblique: bilinear m±
+    assert np.all(e.direction[inner] @ n > np.cos(np.radians(1.0)))  # Sobel direction within 1°
+
+
+def test_edge_points_bad_input():
+    with pytest.raises(ValueError, match="threshold must be > 0"):
+        edge_points(np.zeros((5, 5)), 0.0)
+    assert len(edge_points(np.zeros((5, 5)), 1.0).colrow) == 0
+
+
+# ---------------------------------------------------------------- weighted centroid
+
+
+def test_centroid_matches_scipy_center_of_mass_swapped():
+    rng = np.random.default_rng(33)
+    yy, xx = np.mgrid[:21, :25]
+    img = 20 + 150 * np.exp(-((xx - 11.37) ** 2 + (yy - 9.81) ** 2) / 8) + rng.normal(0, 1, xx.shape)
+    c = weighted_centroid(img, background=40.0)
+    w = np.maximum(img - 40.0, 0)
+    row, col = ndimage.center_of_mass(w)  # SciPy: (row, col)
+    np.testing.assert_allclose(c.colrow, [col, row], atol=1e-12)
+    assert abs(c.colrow[0] - 11.37) < 0.05 and abs(c.colrow[1] - 9.81) < 0.05
+
+
+def test_centroid_precision_by_monte_carlo():
+    rng = np.random.default_rng(34)
+    yy, xx = np.mgrid[:15, :15]
+    clean = 200 * np.exp(-((xx - 7.2) ** 2 + (yy - 6.9) ** 2) / 6) + 10
+    sigma_g = 2.0
+    cs = np.array([weighted_centroid(clean + rng.normal(0, sigma_g, clean.shape), 0.0).colrow
+                   for _ in range(800)])
+    pred = weighted_centroid(clean, 0.0, sigma_g=sigma_g).std
+    np.testing.assert_allclose(cs.std(axis=0), pred, rtol=0.12)
+
+
+def test_centroid_bad_input():
+    with pytest.raises(ValueError, match="the target is empty"):
+        weighted_centroid(np.full((5, 5), 10.0), background=20.0)
+    img = np.ones((4, 4))
+    img[1, 2] = np.nan
+    with pytest.raises(ValueError, match="non-finite"):
+        weighted_centroid(img)
+    with pytest.raises(ValueError, match="sigma_g must be ≥ 0"):
+        weighted_centroid(np.ones((4, 4)), 0.0, sigma_g=-1.0)
+
+
+# ---------------------------------------------------------------- ellipse, circle from conic, plane
+
+
+def _ellipse_points(c, a, b, theta, t):
+    R = np.array([[np.cos(theta), -np.sin(theta)], [np.sin(theta), np.cos(theta)]])
+    return c + (R @ np.vstack([a * np.cos(t), b * np.sin(t)])).T
+
+
+def _same_angle(a, b):
+    return abs(((a - b) + np.pi / 2) % np.pi - np.pi / 2) < 1e-6
+
+
+@settings(max_examples=40, deadline=None)
+@given(cx=st.floats(-500, 500), cy=st.floats(-500, 500), a=st.floats(2, 100),
+       ratio=st.floats(0.2, 0.9), theta=st.floats(0, 3.1))
+def test_fit_ellipse_round_trip(cx, cy, a, ratio, theta):
+    t = np.linspace(0, 2 * np.pi, 13)[:-1]
+    fit = fit_ellipse(_ellipse_points([cx, cy], a, ratio * a, theta, t))
+    np.testing.assert_allclose(fit.centre, [cx, cy], atol=1e-6 * (1 + a))
+    np.testing.assert_allclose(fit.axes, [a, ratio * a], rtol=1e-6)
+    assert _same_angle(fit.angle, theta)
+
+
+def test_fit_ellipse_matches_opencv_fit_ellipse_direct():
+    rng = np.random.default_rng(35)
+    t = rng.uniform(0.0, 4.0, 60)  # an arc: the algebraic criterion matters
+    xy = _ellipse_points([320.5, 240.2], 80.0, 45.0, 0.6, t) + rng.normal(0, 0.5, (60, 2))
+    fit = fit_ellipse(xy)
+    (cx, cy), (w, h), ang = cv2.fitEllipseDirect(xy.astype(np.float32))
+    axes = np.sort([w / 2, h / 2])[::-1]
+    major_deg = ang if w >= h else ang + 90.0
+    np.testing.assert_allclose(fit.centre, [cx, cy], atol=1e-2)
+    np.testing.assert_allclose(fit.axes, axes, rtol=1e-3)
+    assert abs(((np.degrees(fit.angle) - major_deg) + 90) % 180 - 90) < 0.1
+    (cx2, cy2), _, _ = cv2.fitEllipse(xy.astype(np.float32))  # another algebraic criterion
+    assert np.hypot(cx2 - fit.centre[0], cy2 - fit.centre[1]) < 3.0
+
+
+def test_conic_to_ellipse_against_sympy_expansion():
+    """Expand ((x−xc)·u)²/a² + ((x−xc)·v)²/b² − 1 with SymPy and convert back."""
+    x, y = sp.symbols("x y")
+    xc, yc, a, b, th = 3, -2, 5, 2, sp.Rational(1, 3)
+    u = sp.Matrix([sp.cos(th), sp.sin(th)])
+    d = sp.Matrix([x - xc, y - yc])
+    poly = sp.Poly(sp.expand((d.dot(u)) ** 2 / a**2 + (d.dot(sp.Matrix([-u[1], u[0]]))) ** 2 / b**2 - 1), x, y)
+    coeff = [float(poly.coeff_monomial(m)) for m in (x**2, x * y, y**2, x, y, 1)]
+    e = conic_to_ellipse(-7.5 * np.array(coeff))  # any scale and sign
+    np.testing.assert_allclose(e.centre, [3, -2], atol=1e-12)
+    np.testing.assert_allclose(e.axes, [5, 2], rtol=1e-12)
+    assert _same_angle(e.angle, 1 / 3)
+
+
+def test_ellipse_bad_input():
+    with pytest.raises(ValueError, match="at least 5 points, got 4"):
+        fit_ellipse(np.random.default_rng(0).normal(size=(4, 2)))
+    with pytest.raises(DegenerateGeometryError, match="collinear"):
+        fit_ellipse(np.column_stack([np.arange(6.0), 2 * np.arange(6.0)]))
+    with pytest.raises(ValueError, match="non-finite"):
+        fit_ellipse([[0, 0], [1, 0], [0, 1], [1, np.nan], [2, 3]])
+    with pytest.raises(ValueError, match="not an ellipse"):
+        conic_to_ellipse([1, 0, -1, 0, 0, -1])  # hyperbola x² − y² = 1
+    with pytest.raises(ValueError, match="imaginary"):
+        conic_to_ellipse([1, 0, 1, 0, 0, 1])  # x² + y² = −1
+
+
+def test_circle_from_conic_is_2_86_corrected_and_old_print_needs_A_1():
+    rng = np.random.default_rng(36)
+    for _ in range(10):
+        c, r, A = rng.uniform(-5, 5, 2), rng.uniform(0.5, 4), rng.uniform(0.2, 3)
+        # A((x−cx)² + (y−cy)²) − A r² = 0 → D = −A cx, E = −A cy, F = A(|c|² − r²)
+        D, E, F = -A * c[0], -A * c[1], A * (c @ c - r * r)
+        centre, radius = circle_from_conic(A, D, E, F)
+        np.testing.assert_allclose(centre, c, atol=1e-12)
+        assert radius == pytest.approx(r, rel=1e-12)
+        old = np.sqrt(D * D + E * E - A * F)  # luhmann:2.86 old print
+        assert old == pytest.approx(A * r, rel=1e-12)  # = r only for A = 1
+    with pytest.raises(ValueError, match="A = 0"):
+        circle_from_conic(0.0, 1.0, 1.0, 1.0)
+    with pytest.raises(ValueError, match="no real circle"):
+        circle_from_conic(1.0, 0.0, 0.0, 1.0)
+
+
+def test_plane_through_points_against_sympy_and_2_136():
+    from photolib.derive import conic as dc
+
+    rng = np.random.default_rng(37)
+    P = rng.uniform(-10, 10, (3, 3))
+    plane = plane_through_points(*P)
+    np.testing.assert_allclose(plane.distance(P), 0.0, atol=1e-12)
+    subs = dict(zip((dc.x1, dc.y1, dc.z1, dc.x2, dc.y2, dc.z2, dc.x3, dc.y3, dc.z3), P.ravel()))
+    a0, a1, a2 = (float(v) for v in dc.plane_through_points().xreplace(subs))
+    n = plane.normal
+    np.testing.assert_allclose([a0, a1, a2], [plane.d / n[2], -n[0] / n[2], -n[1] / n[2]], rtol=1e-10)
+    # 2.136 printed (P1 at the origin): right after reducing to P1, wrong without
+    Q = P - P[0]
+    (x2, y2, _), (x3, y3, _) = Q[1], Q[2]
+    det = x2 * y3 - x3 * y2
+    printed = np.array([[det, 0, 0], [y2 - y3, y3, -y2], [x3 - x2, -x3, x2]]) @ Q[:, 2] / det
+    assert printed[1:] == pytest.approx([a1, a2], rel=1e-10) and abs(printed[0]) < 1e-10
+    (x2, y2, _), (x3, y3, _) = P[1], P[2]
+    det = x2 * y3 - x3 * y2
+    unreduced = np.array([[det, 0, 0], [y2 - y3, y3, -y2], [x3 - x2, -x3, x2]]) @ P[:, 2] / det
+    assert not np.allclose(unreduced, [a0, a1, a2], rtol=1e-3)
+
+
+def test_fit_plane_matches_scipy_svd_and_lstsq():
+    from scipy import linalg
+
+    rng = np.random.default_rng(38)
+    XY = rng.uniform(-50, 50, (100, 2))
+    P = np.column_stack([XY, 3 + 0.2 * XY[:, 0] - 0.1 * XY[:, 1]]) + rng.normal(0, 0.05, (100, 3))
+    fit = fit_plane(P)
+    _, _, Vt = linalg.svd(P - P.mean(axis=0))
+    assert abs(abs(fit.normal @ Vt[2]) - 1) < 1e-12 and fit.normal[2] > 0
+    # the orthogonal fit is close to (not equal to) the z-regression with small noise
+    coef = linalg.lstsq(np.column_stack([np.ones(100), XY]), P[:, 2])[0]
+    n_reg = np.array([-coef[1], -coef[2], 1.0]) / np.linalg.norm([-coef[1], -coef[2], 1.0])
+    assert np.degrees(np.arccos(min(1.0, fit.normal @ n_reg))) < 0.05
+    assert fit.sigma0 == pytest.approx(0.05, rel=0.2)
+    np.testing.assert_allclose(fit.distances, fit.plane.distance(P), atol=1e-12)
+
+
+def test_plane_bad_input():
+    with pytest.raises(DegenerateGeometryError, match="collinear"):
+        plane_through_points([0, 0, 0], [1, 1, 1], [2, 2, 2])
+    with pytest.raises(DegenerateGeometryError, match="collinear"):
+        fit_plane([[0, 0, 0], [1, 1, 1], [2, 2, 2], [3, 3, 3]])
+    with pytest.raises(ValueError, match="at least 3 points, got 2"):
+        fit_plane([[0, 0, 0], [1, 1, 1]])
+    with pytest.raises(ValueError, match="non-finite"):
+        plane_through_points([0, 0, np.nan], [1, 0, 0], [0, 1, 0])

@@ -60,3 +60,36 @@ def plane_through_points():
     eqs = [a0 + a1 * xi + a2 * yi - zi for xi, yi, zi in ((x1, y1, z1), (x2, y2, z2), (x3, y3, z3))]
     sol = sp.solve(eqs, [a0, a1, a2], dict=True)[0]
     return sp.Matrix([sp.cancel(sol[a0]), sp.cancel(sol[a1]), sp.cancel(sol[a2])])
+
+
+# -- general conic and ellipse (chapter 11) -------------------------------------------------------
+ca, cb, cc, cd, ce, cf = sp.symbols("a b c d e f", real=True)
+ex0, ey0 = sp.symbols("x_c y_c", real=True)
+sa, sb, theta = sp.symbols("A_e B_e theta", positive=True)
+
+
+def general_conic(x=xc, y=yc):
+    """``a x² + b xy + c y² + d x + e y + f``."""
+    return ca * x**2 + cb * x * y + cc * y**2 + cd * x + ce * y + cf
+
+
+def conic_centre():
+    """Centre of the general conic: the zero of its gradient, ``(x_c, y_c)``.
+
+    Exists iff ``4ac − b² ≠ 0`` (the determinant of the linear system); for an ellipse
+    ``4ac − b² > 0``.
+    """
+    g = general_conic()
+    sol = sp.solve([sp.diff(g, xc), sp.diff(g, yc)], [xc, yc], dict=True)[0]
+    return sp.factor(sol[xc]), sp.factor(sol[yc])
+
+
+def ellipse_conic():
+    """Coefficients ``(a, b, c, d, e, f)`` of the ellipse with centre (x_c, y_c), semi-axes
+    A_e, B_e and the A_e-axis at angle θ: ``(u/A_e)² + (v/B_e)² − 1`` expanded, with
+    ``u = (x − x_c)cos θ + (y − y_c)sin θ``, ``v = −(x − x_c)sin θ + (y − y_c)cos θ``.
+    """
+    u = (xc - ex0) * sp.cos(theta) + (yc - ey0) * sp.sin(theta)
+    v = -(xc - ex0) * sp.sin(theta) + (yc - ey0) * sp.cos(theta)
+    poly = sp.Poly(sp.expand((u / sa) ** 2 + (v / sb) ** 2 - 1), xc, yc)
+    return tuple(poly.coeff_monomial(m) for m in (xc**2, xc * yc, yc**2, xc, yc, 1))

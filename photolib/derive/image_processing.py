@@ -142,3 +142,28 @@ def template_gradient_chain():
         d = sp.diff(expr, v).doit()
         out.append(sp.expand(_gradient_symbols(d, Gx, Gy)))
     return tuple(out)
+
+
+def log_separable():
+    """``∇²G − (g''(x)g(y) + g(x)g''(y))`` for the 1-D Gaussians g (simplifies to 0).
+
+    Returns the pair ``(lap, separable)``; the normalised 2-D Gaussian is the product of two
+    normalised 1-D Gaussians, so its Laplacian is the sum of two separable products.
+    """
+    g = lambda t: sp.exp(-t**2 / (2 * sigma**2)) / (sp.sqrt(2 * sp.pi) * sigma)  # noqa: E731
+    lap = sp.diff(gaussian_2d(), xg, 2) + sp.diff(gaussian_2d(), yg, 2)
+    separable = sp.diff(g(xg), xg, 2) * g(yg) + g(xg) * sp.diff(g(yg), yg, 2)
+    return lap, separable
+
+
+def centroid_sensitivity(n: int = 3):
+    """``∂x_c/∂w_k`` of the weighted centroid ``x_c = Σx_i w_i/Σw_i`` (n symbolic pixels).
+
+    Returns ``(derivative, expected)`` with ``expected = (x_k − x_c)/Σw`` for k = 1; the
+    precision ``σ_xc = σ_g·sqrt(Σ(x_i − x_c)²)/Σw`` follows by error propagation.
+    """
+    xs = sp.symbols(f"x1:{n + 1}", real=True)
+    ws = sp.symbols(f"w1:{n + 1}", positive=True)
+    W = sum(ws)
+    xcent = sum(x * w for x, w in zip(xs, ws)) / W
+    return sp.diff(xcent, ws[0]), (xs[0] - xcent) / W

@@ -10,7 +10,8 @@ Every chapter notebook starts with::
 :func:`setup` checks the installation and sets a common plotting style; the figures and the
 widgets of each chapter live in the submodules (:mod:`photolib.nb.rotations`,
 :mod:`photolib.nb.distortion`, :mod:`photolib.nb.projection`, :mod:`photolib.nb.plane`, :mod:`photolib.nb.resection`,
-:mod:`photolib.nb.stereo`, :mod:`photolib.nb.optics`), so that a notebook shows the
+:mod:`photolib.nb.stereo`, :mod:`photolib.nb.optics`,
+:mod:`photolib.nb.measurement`, :mod:`photolib.nb.products`, :mod:`photolib.nb.glossary`), so that a notebook shows the
 idea and not the plumbing. The widgets' callbacks are plain functions, tested in
 ``tests/test_nb.py`` and timed in ``benchmarks/bench_widgets.py``.
 """
@@ -26,9 +27,12 @@ __all__ = [
     "REQUIREMENTS",
     "check_environment",
     "distortion",
+    "glossary",
     "matrix_html",
+    "measurement",
     "optics",
     "plane",
+    "products",
     "projection",
     "resection",
     "rotations",
@@ -110,6 +114,6 @@ def setup() -> None:
 def __getattr__(name):
     # chapter modules on first use: `nb.rotations` without importing all chapters
     if name in ("rotations", "distortion", "projection", "plane", "resection", "live", "draw",
-                "stereo", "optics"):
+                "stereo", "optics", "measurement", "products", "glossary"):
         return importlib.import_module(f"photolib.nb.{name}")
     raise AttributeError(f"module 'photolib.nb' has no attribute {name!r}")

@@ -1,0 +1,206 @@
+"""Least-squares matching / Kleinste-Quadrate-Zuordnung (LSM, Luhmann 5.72/5.73).
+
+A template f (Muster) is found in a search image g (Suchbild) under an affine geometric and a
+linear radiometric transformation,
+
+    f(x, y) − e(x, y) = r0 + r1·g(x', y'),   x' = a0 + a1x + a2y,   y' = b0 + b1x + b2y,
+
+by Gauss–Newton. The linearisation is the errata's corrected 5.72 (record ``luhmann:5.72``; the
+old print drops r0 and the factor r1, right only in the first iteration with r0 = 0, r1 = 1),
+with the gradients g_x' = ∂g/∂x', g_y' = ∂g/∂y' of the search image (5.73, record
+``luhmann:5.73``). The template's coordinates (x, y) are (col, row) relative to its centre
+pixel, so (a0, b0) is the position (col, row) of the template centre in the search image.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from photolib._validate import as_scalar, check_finite
+from photolib.rectify import sample_image
+from photolib.transforms._base import ConvergenceError
+
+__all__ = ["PARAMETER_NAMES", "LSMResult", "least_squares_matching", "lsm_design_matrix"]
+
+#: order of the eight unknowns
+PARAMETER_NAMES = ("a0", "a1", "a2", "b0", "b1", "b2", "r0", "r1")
+
+
+class LSMResult(NamedTuple):
+    """Result of :func:`least_squares_matching`."""
+
+    params: np.ndarray     #: (8,) a0, a1, a2, b0, b1, b2, r0, r1
+    std: np.ndarray        #: (8,) standard deviations σ0·sqrt(q_ii)
+    sigma0: float          #: sqrt(vᵀv/(n − 8)), grey values
+    covariance: np.ndarray  #: (8, 8) σ0²·(AᵀA)⁻¹
+    residuals: np.ndarray  #: (h, w) v = f − (r0 + r1·g(x', y')) after the last iteration
+    iterations: int        #: Gauss–Newton iterations
+    converged: bool        #: True (a failure raises unless ``check=False``)
+    history: np.ndarray    #: (iterations + 1, 8) parameters, start first
+
+    @property
+    def position(self) -> np.ndarray:
+        """(col, row) of the template centre in the search image: (a0, b0)."""
+        return self.params[[0, 3]].copy()
+
+
+def _template_coordinates(shape):
+    h, w = shape
+    yy, xx = np.mgrid[:h, :w].astype(float)
+    return xx - (w - 1) / 2.0, yy - (h - 1) / 2.0
+
+
+def lsm_design_matrix(params, x, y, g, gx, gy) -> np.ndarray:
+    r"""Rows of the linearised LSM model (Luhmann 5.72 corrected), one per template pixel.
+
+    .. math::
+        f - e - (r_0 + r_1 g) = r_1 g_{x'}\,da_0 + r_1 g_{x'} x\,da_1 + r_1 g_{x'} y\,da_2
+        + r_1 g_{y'}\,db_0 + r_1 g_{y'} x\,db_1 + r_1 g_{y'} y\,db_2 + dr_0 + g\,dr_1
+
+    Parameters
+    ----------
+    params : array_like, shape (8,)
+        Current a0, a1, a2, b0, b1, b2, r0, r1 (only r1 enters).
+    x, y : array_like, shape (n,)
+        Template coordinates (pixels from the template centre).
+    g, gx, gy : array_like, shape (n,)
+        Search-image grey value and its gradient (∂g/∂x', ∂g/∂y') at (x', y').
+
+    Returns
+    -------
+    ndarray, shape (n, 8)
+
+    Examples
+    --------
+    >>> lsm_design_matrix([0, 1, 0, 0, 0, 1, 0, 2.0], [1.0], [2.0], [50.0], [3.0], [4.0]).tolist()
+    [[6.0, 6.0, 12.0, 8.0, 8.0, 16.0, 1.0, 50.0]]
+    """
+    r1 = float(np.asarray(params, float)[7])
+    x, y, g, gx, gy = (np.asarray(v, float).ravel() for v in (x, y, g, gx, gy))
+    return np.column_stack([r1 * gx, r1 * gx * x, r1 * gx * y, r1 * gy, r1 * gy * x,
+                            r1 * gy * y, np.ones_like(g), g])
+
+
+def least_squares_matching(template, search, initial, *, tol: float = 1e-4, max_iter: int = 30,
+                           check: bool = True) -> LSMResult:
+    r"""Least-squares matching of ``template`` in ``search`` (affine + linear radiometric).
+
+    Each iteration resamples the search image and its gradient at
+    :math:`x' = a_0 + a_1x + a_2y`, :math:`y' = b_0 + b_1x + b_2y` (bilinear,
+    :func:`photolib.rectify.sample_image`), solves the normal equations of
+    :func:`lsm_design_matrix` for the increments and adds them. It stops when no template
+    pixel moves by ``tol`` pixels or more in a step.
+    The precision is :math:`σ_0 = \sqrt{v^Tv/(n - 8)}` and
+    :math:`Σ = σ_0^2 (A^TA)^{-1}`.
+
+    Parameters
+    ----------
+    template : array_like, shape (h, w)
+        The pattern f, at least 3 × 3 pixels (more than the 8 unknowns), with texture.
+    search : array_like, shape (H, W)
+        The search image g.
+    initial : array_like, shape (2,) or (8,)
+        Start values: the approximate position (col, row) of the template centre in the
+        search image (then a1 = b2 = r1 = 1, the rest 0), or all eight parameters.
+    tol : float
+        Convergence tolerance in pixels.
+    max_iter : int
+        Iteration limit.
+    check : bool
+        If False, return the last iterate with ``converged = False`` instead of raising when
+        the iteration limit is reached.
+
+    Returns
+    -------
+    LSMResult
+
+    Raises
+    ------
+    ValueError
+        If the template is flat (no grey-value gradient: the shifts are undetermined) or the
+        normal equations are singular.
+    ConvergenceError
+        If the patch leaves the search image (divergence; the exception's ``history``
+        attribute holds the iterates up to then) or the iteration limit is reached.
+        (A rotationally symmetric target leaves its rotation undetermined: a1, a2, b1, b2
+        wander and the iteration does not settle — match such targets by shift only.)
+
+    Examples
+    --------
+    >>> yy, xx = np.mgrid[:40, :40].astype(float)
+    >>> g = 100 + 40 * np.sin(xx / 3) * np.cos(yy / 4) + 0.5 * xx
+    >>> f = 5 + 0.9 * g[12:25, 14:27]                # centre at col 20, row 18
+    >>> res = least_squares_matching(f, g, (19.0, 19.0))
+    >>> res.position.round(6).tolist(), res.params[6:].round(3).tolist(), res.converged
+    ([20.0, 18.0], [5.0, 0.9], True)
+    """
+    f = np.asarray(template, dtype=float)
+    g_img = np.asarray(search, dtype=float)
+    for arr, name in ((f, "template"), (g_img, "search")):
+        if arr.ndim != 2 or min(arr.shape) < 3:
+            raise ValueError(f"{name} has shape {arr.shape}; expected a 2-D image of at least 3 × 3")
+        check_finite(arr, name)
+    tol = as_scalar(tol, "tol", positive=True)
+    q = np.asarray(initial, dtype=float).ravel()
+    if q.shape == (2,):
+        q = np.array([q[0], 1.0, 0.0, q[1], 0.0, 1.0, 0.0, 1.0])
+    if q.shape != (8,):
+        raise ValueError(f"initial has shape {np.shape(initial)}; expected (2,) or (8,)")
+    check_finite(q, "initial")
+    fy, fx = np.gradient(f)
+    texture = float(np.sqrt(np.mean(fx**2 + fy**2)))
+    if texture <= 1e-9 * max(1.0, float(np.max(np.abs(f)))):
+        raise ValueError("the template is flat (no grey-value gradient): its position cannot "
+                         "be determined by matching")
+    gy_img, gx_img = np.gradient(g_img)
+    stack = np.stack([g_img, gx_img, gy_img], axis=-1)
+    x, y = (v.ravel() for v in _template_coordinates(f.shape))
+    fv = f.ravel()
+    hx, hy = float(np.max(np.abs(x))), float(np.max(np.abs(y)))
+    H, W = g_img.shape
+    history = [q.copy()]
+    converged = False
+    it = 0
+    for it in range(1, max_iter + 1):
+        cols = q[0] + q[1] * x + q[2] * y
+        rows = q[3] + q[4] * x + q[5] * y
+        if cols.min() < 0 or rows.min() < 0 or cols.max() > W - 1 or rows.max() > H - 1:
+            err = ConvergenceError(f"least-squares matching diverged: after {it - 1} iterations "
+                                   f"the patch (centre col {q[0]:.2f}, row {q[3]:.2f}) leaves "
+                                   f"the search image of {W} × {H} pixels")
+            err.history = np.array(history)
+            raise err
+        g, gx, gy = sample_image(stack, np.column_stack([cols, rows])).T
+        A = lsm_design_matrix(q, x, y, g, gx, gy)
+        l = fv - (q[6] + q[7] * g)  # noqa: E741 - the usual name of the observation vector
+        N = A.T @ A
+        s = np.sqrt(np.diag(N))
+        if np.any(s == 0) or np.linalg.cond(N / np.outer(s, s)) > 1e12:
+            raise ValueError("the normal equations of the matching are singular: the search "
+                             "patch has no texture in one direction (flat or one-dimensional)")
+        dq = np.linalg.solve(N, A.T @ l)
+        q = q + dq
+        history.append(q.copy())
+        if not np.all(np.isfinite(q)):
+            raise ConvergenceError(f"least-squares matching diverged at iteration {it}")
+        move = max(abs(dq[0]) + abs(dq[1]) * hx + abs(dq[2]) * hy,
+                   abs(dq[3]) + abs(dq[4]) * hx + abs(dq[5]) * hy)
+        if move < tol:
+            converged = True
+            break
+    if not converged and check:
+        raise ConvergenceError(f"least-squares matching did not converge in {max_iter} "
+                               f"iterations (last shift step {np.hypot(dq[0], dq[3]):.3g} px)")
+    cols = q[0] + q[1] * x + q[2] * y
+    rows = q[3] + q[4] * x + q[5] * y
+    inside = np.column_stack([np.clip(cols, 0, W - 1), np.clip(rows, 0, H - 1)])
+    g, gx, gy = sample_image(stack, inside).T
+    v = fv - (q[6] + q[7] * g)
+    A = lsm_design_matrix(q, x, y, g, gx, gy)
+    red = len(fv) - 8
+    sigma0 = float(np.sqrt(v @ v / red))
+    cov = sigma0**2 * np.linalg.inv(A.T @ A)
+    return LSMResult(q, np.sqrt(np.diag(cov)), sigma0, cov, v.reshape(f.shape), it, converged,
+                     np.array(history))

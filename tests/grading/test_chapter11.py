@@ -1,0 +1,232 @@
+"""The exercises of chapter 11 (image measurement), judged as the grader does.
+
+The same checks as for chapters 04-08 (reference accepted, every declared mistake recognised
+with its hint, variants differ, functions judged on hidden cases, untouched answers not
+answered), plus checks of the references by an independent route: SymPy derivatives and
+solutions, SciPy's ``center_of_mass`` and finite differences of the LSM model.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import sympy as sp
+from scipy import ndimage
+
+from photolib.grading.encode import decode_value, encode_value
+from photolib.grading.exercises import ch11_image_measurement as ch11
+from photolib.grading.exercises import chapter
+from photolib.grading.judge import judge
+from photolib.grading.notebook import function_outputs, parameters_for, reference_outputs
+from photolib.grading.variants import rng_for
+
+EXERCISES = ch11.EXERCISES
+BY_ID = {ex.id: ex for ex in EXERCISES}
+STUDENTS = ("s1000001", "s1000002", "s1000003", "s2345678")
+
+
+def _judge(ex, sid, value):
+    params = parameters_for(ex, sid)
+    if ex.kind == "function":
+        cases = ex.cases(rng_for(sid, ex.id, "hidden"), params)
+        return judge(ex, params, function_outputs(value, cases), reference_outputs(cases))
+    return judge(ex, params, decode_value(encode_value(value)))
+
+
+# -- the same checks as for chapters 04-08 --------------------------------------------------------
+
+def test_module_is_the_registered_chapter():
+    assert ch11.CHAPTER == "11-image-measurement"
+    assert chapter("11-image-measurement") == EXERCISES
+    assert len(EXERCISES) >= 4
+    assert {"number", "array", "function", "expression"} <= {ex.kind for ex in EXERCISES}
+
+
+@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
+@pytest.mark.parametrize("sid", STUDENTS[:2])
+def test_reference_is_accepted(ex, sid):
+    verdict = _judge(ex, sid, ex.reference(parameters_for(ex, sid)))
+    assert verdict.status == "correct", verdict.message
+    assert verdict.points == ex.points
+
+
+@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
+def test_each_mistake_is_recognised_with_its_hint(ex):
+    assert ex.mistakes, f"{ex.id} declares no mistakes"
+    for index, mistake in enumerate(ex.mistakes):
+        applied = 0
+        for sid in STUDENTS:
+            wrong = mistake.wrong(parameters_for(ex, sid))
+            if wrong is None:
+                continue
+            applied += 1
+            verdict = _judge(ex, sid, wrong)
+            assert verdict.status == "wrong", (ex.id, index, sid)
+            assert verdict.mistake == mistake.tag, (ex.id, index, sid, verdict.message)
+            assert verdict.message == f"not correct: {mistake.message}", (ex.id, index, sid)
+        assert applied, f"{ex.id}: mistake {index} ({mistake.tag}) never applies"
+
+
+@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
+def test_students_get_different_variants(ex):
+    a, b = (parameters_for(ex, sid) for sid in STUDENTS[:2])
+    assert a != b
+    assert parameters_for(ex, STUDENTS[0]) == a
+    assert ex.statement.format(**a) != ex.statement.format(**b)
+
+
+def test_hidden_inputs_differ_from_the_public_ones():
+    ex = BY_ID["im.lsm-row"]
+    params = parameters_for(ex, STUDENTS[0])
+    public = ex.cases(rng_for(STUDENTS[0], ex.id, "public"), params)
+    hidden = ex.cases(rng_for(STUDENTS[0], ex.id, "hidden"), params)
+    assert len(public) == len(hidden) >= 3 and public != hidden
+    for case in public + hidden:
+        assert all(np.ndim(arg) == 0 for arg in case)
+
+
+@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
+def test_untouched_answer_is_not_answered(ex):
+    value = (lambda *args: ...) if ex.kind == "function" else ...
+    assert _judge(ex, STUDENTS[0], value).status == "not-answered"
+
+
+def test_a_slightly_wrong_function_is_wrong_without_a_hint():
+    ex = BY_ID["im.lsm-row"]
+    f = ex.reference(parameters_for(ex, STUDENTS[0]))
+    verdict = _judge(ex, STUDENTS[0], lambda *a: f(*a) + 0.01)
+    assert verdict.status == "wrong" and verdict.mistake == "other"
+
+
+# -- the references by an independent route -------------------------------------------------------
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_log_value_is_the_sympy_laplacian(sid):
+    p = parameters_for(BY_ID["im.log-value"], sid)
+    x, y, s = sp.symbols("x y sigma", positive=True)
+    G = sp.exp(-(x**2 + y**2) / (2 * s**2)) / (2 * sp.pi * s**2)
+    lap = sp.diff(G, x, 2) + sp.diff(G, y, 2)
+    # evaluate off the axis: rotation invariance is part of the check
+    a = p["r"] / math.sqrt(2)
+    assert ch11._log_value(p) == pytest.approx(float(lap.subs({x: a, y: a, s: p["sigma"]})), rel=1e-12)
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_moment_p1_solves_the_three_moment_equations(sid):
+    p = parameters_for(BY_ID["im.moment-p1"], sid)
+    g = np.repeat(np.array(p["grey"], float), p["counts"])
+    m = [sp.Rational(int(np.sum(g.astype(np.int64) ** i)), len(g)) for i in (1, 2, 3)]
+    q, h1, h2 = sp.symbols("q h1 h2", real=True)
+    sols = sp.solve([q * h1**i + (1 - q) * h2**i - mi for i, mi in zip((1, 2, 3), m)],
+                    [q, h1, h2], dict=True)
+    good = [sol for sol in sols if sol[h1] < sol[h2]]
+    assert len(good) == 1
+    assert ch11._p1(p) == pytest.approx(float(good[0][q]), rel=1e-10)
+    assert ch11._p1_printed(p) is not None and abs(ch11._p1_printed(p) - ch11._p1(p)) > 1e-3
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_circle_points_satisfy_the_conic(sid):
+    p = parameters_for(BY_ID["im.circle-conic"], sid)
+    xc, yc, r = ch11._circle(p)
+    t = np.linspace(0, 2 * np.pi, 7)
+    x, y = xc + r * np.cos(t), yc + r * np.sin(t)
+    conic = p["A"] * (x**2 + y**2) + 2 * p["D"] * x + 2 * p["E"] * y + p["F"]
+    np.testing.assert_allclose(conic, 0.0, atol=1e-9 * max(1.0, abs(p["F"])))
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_centroid_agrees_with_scipy_center_of_mass(sid):
+    p = parameters_for(BY_ID["im.centroid"], sid)
+    w = np.maximum(np.array(p["patch"], float) - p["t"], 0.0)
+    row, col = ndimage.center_of_mass(w)
+    np.testing.assert_allclose(ch11._centroid(p), [col, row], atol=1e-12)
+
+
+@pytest.mark.parametrize("sid", STUDENTS[:2])
+def test_lsm_row_is_the_derivative_of_the_model(sid):
+    """∂/∂q of r0 + r1·g(a0 + a1x + a2y, b0 + b1x + b2y) at the start values, analytic g."""
+    p = parameters_for(BY_ID["im.lsm-row"], sid)
+
+    def gfun(c, r):
+        return 100 + 30 * np.sin(c / 3.0) * np.cos(r / 5.0) + 0.2 * c * r
+
+    x, y, h = 1.7, -2.3, 1e-6
+    q0 = np.array([40.0, 1, 0, 35.0, 0, 1, p["r0"], p["r1"]])
+
+    def model(q):
+        return q[6] + q[7] * gfun(q[0] + q[1] * x + q[2] * y, q[3] + q[4] * x + q[5] * y)
+
+    c, r = 40.0 + x, 35.0 + y
+    g = gfun(c, r)
+    gx = (gfun(c + h, r) - gfun(c - h, r)) / (2 * h)
+    gy = (gfun(c, r + h) - gfun(c, r - h)) / (2 * h)
+    fd = [(model(q0 + h * e) - model(q0 - h * e)) / (2 * h) for e in np.eye(8)]
+    np.testing.assert_allclose(ch11._lsm_reference(p)(x, y, g, gx, gy), fd, rtol=1e-5, atol=1e-6)
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_conic_centre_is_where_the_gradient_vanishes(sid):
+    """Numerically: a conic with that xy coefficient, its centre by np.linalg.solve."""
+    p = parameters_for(BY_ID["im.conic-centre"], sid)
+    expr = ch11._conic_centre(p)
+    rng = np.random.default_rng(len(sid))
+    a, c = rng.uniform(0.5, 2.0, 2) * abs(p["b"])  # 4ac − b² > 0: an ellipse
+    d, e, f = rng.uniform(-5, 5, 3)
+    centre = np.linalg.solve([[2 * a, p["b"]], [p["b"], 2 * c]], [-d, -e])
+    names = {s.name: s for s in expr.free_symbols}
+    value = float(expr.subs({names[k]: v for k, v in zip("acdef", (a, c, d, e, f)) if k in names}))
+    assert value == pytest.approx(centre[0 if p["coordinate"] == "x_c" else 1], rel=1e-10)
+
+
+def test_conic_centre_accepts_a_formula_string():
+    ex = BY_ID["im.conic-centre"]
+    sid = next(s for s in (f"s{i}" for i in range(200))
+               if parameters_for(ex, s)["coordinate"] == "x_c" and parameters_for(ex, s)["b"] == 3)
+    assert _judge(ex, sid, "(3*e - 2*c*d)/(4*a*c - 9)").status == "correct"
+
+
+# -- the notebooks, graded in a process of their own (as tests/grading/test_folders.py) ---------
+
+_GRADE = """
+import pickle, sys
+from photolib.grading.batch import grade_batch
+from photolib.grading.sandbox import Limits
+results = grade_batch(sys.argv[2:], Limits(timeout=120), jobs=1)
+with open(sys.argv[1], "wb") as f:
+    pickle.dump({r.submission: r for r in results}, f)
+"""
+
+
+@pytest.fixture(scope="module")
+def graded(tmp_path_factory):
+    import pickle
+    import subprocess
+    import sys
+
+    from .conftest import ROOT
+
+    paths = [ROOT / d / "11-image-measurement.ipynb" for d in ("solutions", "exercises")]
+    out = tmp_path_factory.mktemp("ch11") / "graded.pickle"
+    proc = subprocess.run([sys.executable, "-c", _GRADE, str(out), *map(str, paths)],
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    with open(out, "rb") as f:
+        results = pickle.load(f)
+    return {("master" if "solutions" in k else "copy"): v for k, v in results.items()}
+
+
+def test_master_gets_full_marks(graded):
+    r = graded["master"]
+    assert r.status == "ok", r.detail
+    assert r.total == r.max_total == sum(ex.points for ex in EXERCISES)
+
+
+def test_untouched_copy_gets_zero(graded):
+    r = graded["copy"]
+    assert r.status == "no-student-id", r.detail
+    assert r.total == 0 and {j.status for j in r.judgements} == {"not-answered"}
+    assert r.output.count("not answered yet") == len(EXERCISES)
+    assert "Traceback" not in r.output
