@@ -16,8 +16,8 @@ TARGET_MS = 50.0
 
 
 def _cases():
-    from photolib.nb import (distortion, glossary, measurement, optics, plane, products, projection,
-                             resection, rotations, stereo)
+    from photolib.nb import (distortion, glossary, intro, measurement, optics, plane, products,
+                             projection, resection, rotations, sensors, stereo)
 
     return [
         (rotations.RotationExplorer, "phi", (10.0, 60.0)),
@@ -43,6 +43,11 @@ def _cases():
         (products.OrthoErrorExplorer, "amplitude", (0.5, 2.0)),
         (products.TrueOrthoExplorer, "height", (10.0, 40.0)),
         (glossary.GlossaryExplorer, "query", ("ortho", "kalibr")),
+        (sensors.QuantisationExplorer, "bits", (2.0, 7.0)),
+        (sensors.AliasingExplorer, "frequency", (70.0, 150.0)),
+        (sensors.BayerExplorer, "period_px", (3.0, 9.0)),
+        (intro.ImageScaleExplorer, "log_distance", (1.0, 3.5)),
+        (intro.FlightBlockExplorer, "height_m", (900.0, 2500.0)),
     ]
 
 

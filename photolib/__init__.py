@@ -54,6 +54,16 @@ _EXPORTS = {
     "circle_from_conic": "fitting", "conic_to_ellipse": "fitting", "fit_ellipse": "fitting",
     "fit_plane": "fitting", "plane_through_points": "fitting",
     "LSMResult": "matching", "least_squares_matching": "matching",
+    # chapters 01 and 03: digital images and sensors (quantisation, noise, colour, sampling, GSD)
+    "DynamicRange": "sensors", "FlightBlock": "sensors", "alias_frequency": "sensors",
+    "bayer_masks": "sensors", "bayer_mosaic": "sensors", "bits_for_levels": "sensors",
+    "decibels": "sensors", "demosaic_bilinear": "sensors", "dequantise": "sensors",
+    "dynamic_range": "sensors", "flight_block": "sensors", "footprint": "sensors",
+    "gain_e_per_dn": "sensors", "grey_levels": "sensors",
+    "ground_sampling_distance": "sensors", "line_rate": "sensors",
+    "nyquist_frequency": "sensors", "pixel_mtf": "sensors",
+    "quantisation_noise_variance": "sensors", "quantisation_step": "sensors",
+    "quantise": "sensors", "sample_sine": "sensors", "snr": "sensors",
     # chapter 02: optics (thin lens, depth of field, diffraction, refraction, dispersion)
     "DepthOfField": "optics", "NoRealImageError": "optics",
     "TotalInternalReflectionError": "optics", "abbe_number": "optics",

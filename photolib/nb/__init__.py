@@ -8,11 +8,12 @@ Every chapter notebook starts with::
     nb.setup()
 
 :func:`setup` checks the installation and sets a common plotting style; the figures and the
-widgets of each chapter live in the submodules (:mod:`photolib.nb.rotations`,
-:mod:`photolib.nb.distortion`, :mod:`photolib.nb.projection`, :mod:`photolib.nb.plane`, :mod:`photolib.nb.resection`,
-:mod:`photolib.nb.stereo`, :mod:`photolib.nb.optics`,
-:mod:`photolib.nb.measurement`, :mod:`photolib.nb.products`, :mod:`photolib.nb.glossary`), so that a notebook shows the
-idea and not the plumbing. The widgets' callbacks are plain functions, tested in
+widgets of each chapter live in the submodules (:mod:`photolib.nb.intro`,
+:mod:`photolib.nb.optics`, :mod:`photolib.nb.sensors`, :mod:`photolib.nb.rotations`,
+:mod:`photolib.nb.distortion`, :mod:`photolib.nb.projection`, :mod:`photolib.nb.plane`,
+:mod:`photolib.nb.resection`, :mod:`photolib.nb.stereo`,
+:mod:`photolib.nb.measurement`, :mod:`photolib.nb.products`, :mod:`photolib.nb.glossary`),
+so that a notebook shows the idea and not the plumbing. The widgets' callbacks are plain functions, tested in
 ``tests/test_nb.py`` and timed in ``benchmarks/bench_widgets.py``.
 """
 
@@ -28,6 +29,7 @@ __all__ = [
     "check_environment",
     "distortion",
     "glossary",
+    "intro",
     "matrix_html",
     "measurement",
     "optics",
@@ -37,6 +39,7 @@ __all__ = [
     "resection",
     "rotations",
     "rounded",
+    "sensors",
     "setup",
     "show",
     "stereo",
@@ -113,7 +116,8 @@ def setup() -> None:
 
 def __getattr__(name):
     # chapter modules on first use: `nb.rotations` without importing all chapters
-    if name in ("rotations", "distortion", "projection", "plane", "resection", "live", "draw",
-                "stereo", "optics", "measurement", "products", "glossary"):
+    if name in ("intro", "optics", "sensors", "rotations", "distortion", "projection", "plane",
+                "resection", "stereo", "measurement", "products", "glossary",
+                "live", "draw"):
         return importlib.import_module(f"photolib.nb.{name}")
     raise AttributeError(f"module 'photolib.nb' has no attribute {name!r}")

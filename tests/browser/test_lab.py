@@ -8,9 +8,9 @@ import pytest
 
 pytestmark = [pytest.mark.browser, pytest.mark.timeout(300)]
 
-CHAPTERS = ["02-optics", "04-rotations", "05-interior-orientation", "06-collinearity",
-            "07-plane-transformations", "08-resection-dlt", "09-stereo", "11-image-measurement",
-            "12-products"]
+CHAPTERS = ["01-introduction", "02-optics", "03-digital-images", "04-rotations",
+            "05-interior-orientation", "06-collinearity", "07-plane-transformations",
+            "08-resection-dlt", "09-stereo", "11-image-measurement", "12-products"]
 
 
 def test_lab_answers_200(lab_url):

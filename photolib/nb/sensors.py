@@ -1,0 +1,354 @@
+"""Chapter 03 pictures and widgets: digital images and sensors (Digitale Bilder und Sensoren).
+
+* :class:`QuantisationExplorer`: bit depth (Bittiefe) → staircase, rounding error, σ_q = Δ/√12
+  and a quantised test image;
+* :class:`AliasingExplorer`: a sine pattern on a 5 µm pixel grid: frequency and fill factor →
+  samples, the alias the samples show, and the pixel MTF;
+* :class:`BayerExplorer`: stripe frequency of a grey test chart → the false colours of the
+  bilinear demosaic (Farbinterpolation).
+
+All numbers come from :mod:`photolib.sensors`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from photolib import sensors as ps
+from photolib.nb.live import Explorer, LiveFigure, slider
+
+__all__ = [
+    "PITCH_MM",
+    "AliasingExplorer",
+    "BayerExplorer",
+    "QuantisationExplorer",
+    "aliasing_report",
+    "bayer_report",
+    "demo_image",
+    "demo_profile",
+    "plot_bayer",
+    "plot_mtf",
+    "plot_snr",
+    "quantisation_report",
+    "stripe_chart",
+]
+
+#: pixel pitch of the chapter's sensor, mm (5 µm: Nyquist 100 line pairs per mm)
+PITCH_MM = 0.005
+_N_PROFILE = 400
+
+
+def demo_profile(n: int = _N_PROFILE) -> tuple[np.ndarray, np.ndarray]:
+    """A smooth brightness profile along an image row, values in [0, 1].
+
+    >>> x, s = demo_profile(5)
+    >>> float(s.min()) >= 0.0 and float(s.max()) <= 1.0
+    True
+    """
+    x = np.linspace(0.0, 1.0, n)
+    return x, 0.5 + 0.38 * np.sin(2 * np.pi * 1.3 * x) * np.exp(-0.8 * x) + 0.1 * x - 0.05
+
+
+def demo_image(size: int = 96) -> np.ndarray:
+    """A grey test image in [0, 1]: a radial gradient with a soft bright spot.
+
+    >>> demo_image(8).shape
+    (8, 8)
+    """
+    r, c = np.mgrid[0:size, 0:size] / (size - 1)
+    return np.clip(0.15 + 0.6 * c + 0.3 * np.exp(-((r - 0.35) ** 2 + (c - 0.6) ** 2) / 0.02)
+                   - 0.1 * r, 0.0, 1.0)
+
+
+def quantisation_report(bits: int) -> dict:
+    """Quantise the test profile and the test image to ``bits`` bits.
+
+    Returns
+    -------
+    dict
+        ``x``, ``signal``, ``quantised`` (back in signal units), ``error_steps`` (error / Δ),
+        ``step``, ``sigma_model`` (Δ/√12), ``sigma_measured`` (RMS of the profile's error),
+        ``image`` (quantised test image), ``html``.
+
+    Examples
+    --------
+    >>> rep = quantisation_report(3)
+    >>> rep["step"] == 1 / 7, bool(np.max(np.abs(rep["error_steps"])) <= 0.5 + 1e-12)
+    (True, True)
+    """
+    b = int(round(bits))
+    x, s = demo_profile()
+    step = ps.quantisation_step(b)
+    q = ps.dequantise(ps.quantise(s, b), b)
+    err = q - s
+    sigma_model = float(np.sqrt(ps.quantisation_noise_variance(step)))
+    sigma = float(np.sqrt(np.mean(err**2)))
+    image = ps.dequantise(ps.quantise(demo_image(), b), b)
+    sine_db = 6.02 * b + 1.76
+    html = (f"<p><b>{b} bit</b>: 2<sup>{b}</sup> = {ps.grey_levels(b)} grey values "
+            f"(Grauwerte) 0 … {ps.grey_levels(b) - 1}<br>step Δ = 1/{ps.grey_levels(b) - 1} "
+            f"= {step:.4g}<br>σ<sub>q</sub> = Δ/√12 = <b>{sigma_model:.4g}</b><br>"
+            f"RMS error of this profile: {sigma:.4g}<br>"
+            f"SNR of a full-scale sine ≈ 6.02·b + 1.76 = {sine_db:.1f} dB</p>")
+    return {"x": x, "signal": s, "quantised": q, "error_steps": err / step, "step": step,
+            "sigma_model": sigma_model, "sigma_measured": sigma, "image": image, "html": html}
+
+
+def aliasing_report(frequency: float, fill_factor: float = 1.0, n: int = 16,
+                    pitch: float = PITCH_MM) -> dict:
+    """A sine of ``frequency`` (cycles/mm) seen by ``n`` pixels of pitch ``pitch`` (mm).
+
+    Returns
+    -------
+    dict
+        ``x_um`` fine positions (µm) and ``pattern`` (the sine on the sensor), ``pixel_um``
+        and ``samples`` (pixel values, integrated over the sensitive area), ``alias`` (the
+        sine of the alias frequency through the samples, on ``x_um``), ``f_alias``,
+        ``mtf`` (signed amplitude factor sinc(f·a)), ``nyquist``, ``aliased``, ``html``.
+
+    Examples
+    --------
+    >>> rep = aliasing_report(150.0)
+    >>> rep["f_alias"], rep["aliased"]
+    (50.0, True)
+    """
+    f = float(frequency)
+    ff = float(fill_factor)
+    fn = ps.nyquist_frequency(pitch)
+    x_mm, samples = ps.sample_sine(f, pitch, n, fill_factor=ff)
+    fine = np.linspace(-0.5 * pitch, (n - 0.5) * pitch, 8 * n * 4)
+    pattern = np.cos(2 * np.pi * f * fine)
+    fa = ps.alias_frequency(f, pitch)
+    amp = float(np.sinc(f * pitch * np.sqrt(ff)))
+    # the alias through the samples: f = k/p ± f_a, so cos(2πf·kp) = cos(2πf_a·kp)
+    alias = amp * np.cos(2 * np.pi * fa * fine)
+    aliased = bool(f > fn + 1e-12)
+    verdict = ("<b style='color:#b00'>aliased</b>: the pixels show a false, lower frequency"
+               if aliased else "below Nyquist: the samples show the true frequency")
+    html = (f"<p>pixel pitch p = {pitch * 1e3:g} µm, Nyquist f<sub>N</sub> = 1/(2p) = "
+            f"{fn:g} /mm<br>pattern f = {f:g} /mm → seen as f<sub>a</sub> = <b>{fa:g} /mm</b>"
+            f"<br>{verdict}<br>fill factor {ff:.2f}: sensitive width a = p·√FF = "
+            f"{pitch * np.sqrt(ff) * 1e3:.2f} µm<br>pixel MTF |sinc(f·a)| = <b>{abs(amp):.3f}</b>"
+            "</p>")
+    return {"x_um": fine * 1e3, "pattern": pattern, "pixel_um": x_mm * 1e3, "samples": samples,
+            "alias": alias, "f_alias": float(fa), "mtf": amp, "nyquist": fn, "aliased": aliased,
+            "html": html}
+
+
+def stripe_chart(period_px: float, size: int = 48) -> np.ndarray:
+    """A grey test chart (R = G = B) of vertical stripes with ``period_px`` pixels per cycle.
+
+    >>> chart = stripe_chart(4.0, 8)
+    >>> chart.shape, bool(np.all(chart[..., 0] == chart[..., 2]))
+    ((8, 8, 3), True)
+    """
+    c = np.arange(size)
+    grey = 0.5 + 0.5 * np.cos(2 * np.pi * c / float(period_px))
+    return np.repeat(np.tile(grey, (size, 1))[..., None], 3, axis=-1)
+
+
+def bayer_report(period_px: float, pattern: str = "RGGB", size: int = 48) -> dict:
+    """Grey stripes through a Bayer sensor and the bilinear demosaic: how much false colour?
+
+    Returns
+    -------
+    dict
+        ``scene``, ``mosaic``, ``rgb`` (demosaiced, clipped to [0, 1]), ``false_colour``
+        (RMS of the channel differences inside the border: 0 for a grey result), ``html``.
+
+    Examples
+    --------
+    >>> bayer_report(40.0)["false_colour"] < bayer_report(2.5)["false_colour"]
+    True
+    """
+    scene = stripe_chart(period_px, size)
+    mosaic = ps.bayer_mosaic(scene, pattern)
+    rgb = np.clip(ps.demosaic_bilinear(mosaic, pattern), 0.0, 1.0)
+    inner = rgb[1:-1, 1:-1]
+    grey = inner.mean(axis=-1, keepdims=True)
+    false = float(np.sqrt(np.mean((inner - grey) ** 2)))
+    html = (f"<p>stripes: {period_px:g} px per cycle (Nyquist: 2 px; green Nyquist along a "
+            f"row: 2 px, red and blue: 4 px)<br>{pattern}: ½ of the pixels green, ¼ red, "
+            f"¼ blue<br>false colour (RMS of R, G, B about their mean): <b>{false:.3f}</b></p>")
+    return {"scene": scene, "mosaic": mosaic, "rgb": rgb, "false_colour": false, "html": html}
+
+
+# -- static figures -------------------------------------------------------------------------------
+
+def plot_snr(full_well_e: float = 20000.0, read_noise_e: float = 5.0, gain: float = 5.0):
+    """SNR over the signal (log–log): read-noise-limited, shot-noise-limited, full well."""
+    import matplotlib.pyplot as plt
+
+    S = np.logspace(0, np.log10(full_well_e), 200)
+    fig, ax = plt.subplots(figsize=(5.6, 3.4))
+    ax.loglog(S, ps.snr(S, read_noise_e, gain), lw=2, label="shot + read + quantisation")
+    ax.loglog(S, np.sqrt(S), "--", lw=1, label="shot noise only: √S")
+    ax.loglog(S, S / read_noise_e, ":", lw=1, label=f"read noise only: S/{read_noise_e:g}")
+    ax.axvline(full_well_e, color="0.4", lw=1)
+    ax.text(full_well_e, 1.5, " full well", rotation=90, va="bottom", ha="right", fontsize=8)
+    ax.set(xlabel="signal S [e⁻]", ylabel="SNR", ylim=(0.1, 1000),
+           title="signal-to-noise ratio / Signal-Rausch-Verhältnis")
+    ax.legend(fontsize=8, loc="upper left")
+    return fig
+
+
+def plot_mtf(pitch: float = PITCH_MM, fill_factors=(1.0, 0.5, 0.25)):
+    """Pixel MTF over the frequency for several fill factors, with the Nyquist frequency."""
+    import matplotlib.pyplot as plt
+
+    f = np.linspace(0.0, 3.0 / pitch, 400)
+    fig, ax = plt.subplots(figsize=(5.6, 3.2))
+    for ff in fill_factors:
+        ax.plot(f, ps.pixel_mtf(f, pitch, ff), label=f"FF = {ff:g}")
+    ax.axvline(ps.nyquist_frequency(pitch), color="0.4", ls="--", lw=1)
+    ax.text(ps.nyquist_frequency(pitch), 1.02, "Nyquist", ha="center", fontsize=8)
+    ax.set(xlabel="frequency [cycles/mm]", ylabel="MTF", ylim=(0, 1.1),
+           title=f"MTF of a square pixel, p = {pitch * 1e3:g} µm")
+    ax.legend(fontsize=8)
+    return fig
+
+
+def plot_bayer(rgb, pattern: str = "RGGB", title: str = "Bayer mosaic and bilinear demosaic"):
+    """Scene, the mosaic in its filter colours, and the demosaiced image, side by side."""
+    import matplotlib.pyplot as plt
+
+    rgb = np.asarray(rgb, float)
+    mosaic = ps.bayer_mosaic(rgb, pattern)
+    masks = ps.bayer_masks(mosaic.shape, pattern)
+    coloured = np.moveaxis(masks, 0, -1) * mosaic[..., None]
+    out = np.clip(ps.demosaic_bilinear(mosaic, pattern), 0.0, 1.0)
+    fig, axes = plt.subplots(1, 3, figsize=(7.2, 2.7))
+    for ax, img, name in zip(axes, (rgb, coloured, out),
+                             ("scene", f"sensor ({pattern})", "bilinear demosaic")):
+        ax.imshow(np.clip(img, 0.0, 1.0), interpolation="nearest")
+        ax.set(title=name, xticks=[], yticks=[])
+        ax.grid(False)
+    fig.suptitle(title, fontsize=10)
+    return fig
+
+
+# -- widgets --------------------------------------------------------------------------------------
+
+def _rgb8(img) -> np.ndarray:
+    """An image in [0, 1] (grey (H, W) or (H, W, 3)) as uint8 RGB: imshow draws it fastest."""
+    img = np.clip(np.asarray(img, float), 0.0, 1.0)
+    if img.ndim == 2:
+        img = np.repeat(img[..., None], 3, axis=-1)
+    return np.rint(255.0 * img).astype(np.uint8)
+
+
+class QuantisationExplorer(Explorer):
+    """Bit depth → quantised profile, rounding error in steps, quantised test image."""
+
+    title = "quantisation explorer"
+
+    def __init__(self, bits=3.0):
+        self.controls = {"bits": slider("bits b", bits, 1, 10, 1, fmt=".0f")}
+        self.live = LiveFigure((7.4, 3.2))
+        fig = self.live.figure
+        ax = fig.add_subplot(2, 2, 1)
+        ex = fig.add_subplot(2, 2, 3, sharex=ax)
+        im = fig.add_subplot(1, 2, 2)
+        fig.subplots_adjust(0.08, 0.14, 0.98, 0.9, wspace=0.2, hspace=0.35)
+        x, s = demo_profile()
+        ax.plot(x, s, color="0.6", lw=1)
+        ax.set(ylim=(-0.05, 1.05), title="signal and grey values", xticks=[])
+        ex.set(ylim=(-0.6, 0.6), xlabel="position along the row", title="error / Δ")
+        ex.axhline(0.5, color="0.6", lw=0.8, ls="--")
+        ex.axhline(-0.5, color="0.6", lw=0.8, ls="--")
+        (self._stairs,) = ax.plot(x, s, color="#d62728", lw=1.3, drawstyle="steps-mid")
+        (self._error,) = ex.plot(x, 0 * x, color="#1f77b4", lw=0.8)
+        self._image = im.imshow(_rgb8(demo_image()), interpolation="nearest")
+        im.set(xticks=[], yticks=[], title="quantised image")
+        im.grid(False)
+        for artist in (self._stairs, self._error, self._image):
+            self.live.animate(artist)
+        self.report = None
+        self._finish()
+
+    def draw(self, bits) -> str:
+        self.report = rep = quantisation_report(bits)
+        self._stairs.set_ydata(rep["quantised"])
+        self._error.set_ydata(rep["error_steps"])
+        self._image.set_data(_rgb8(rep["image"]))
+        return rep["html"]
+
+
+class AliasingExplorer(Explorer):
+    """Pattern frequency and fill factor → pixel samples, alias, pixel MTF."""
+
+    title = "sampling and aliasing explorer"
+
+    def __init__(self, frequency=60.0, fill_factor=1.0):
+        self.controls = {"frequency": slider("f [1/mm]", frequency, 0, 400, 5, fmt=".0f"),
+                         "fill_factor": slider("fill factor", fill_factor, 0.05, 1.0, 0.05,
+                                               fmt=".2f")}
+        self.live = LiveFigure((7.4, 3.0))
+        fig = self.live.figure
+        ax = fig.add_subplot(1, 2, 1)
+        mx = fig.add_subplot(1, 2, 2)
+        fig.subplots_adjust(0.08, 0.16, 0.98, 0.9, wspace=0.28)
+        n = 16
+        for k in range(n + 1):
+            ax.axvline((k - 0.5) * PITCH_MM * 1e3, color="0.85", lw=0.6)
+        ax.set(xlim=(-0.5 * PITCH_MM * 1e3, (n - 0.5) * PITCH_MM * 1e3), ylim=(-1.2, 1.2),
+               xlabel="x [µm]", title="pattern, pixel values, alias")
+        (self._pattern,) = ax.plot([], [], color="0.55", lw=1)
+        (self._alias,) = ax.plot([], [], color="#d62728", lw=1.2, ls="--")
+        (self._samples,) = ax.plot([], [], "o", color="#1f77b4", ms=4)
+        f = np.linspace(0, 400, 300)
+        self._f = f
+        fn = ps.nyquist_frequency(PITCH_MM)
+        mx.axvline(fn, color="0.4", ls="--", lw=1)
+        mx.text(fn, 1.03, "Nyquist", ha="center", fontsize=8)
+        mx.set(xlim=(0, 400), ylim=(0, 1.1), xlabel="f [1/mm]", title="pixel MTF")
+        (self._mtf,) = mx.plot(f, 0 * f, color="#2ca02c", lw=1.5)
+        (self._marker,) = mx.plot([], [], "o", color="#d62728", ms=6)
+        for artist in (self._pattern, self._alias, self._samples, self._mtf, self._marker):
+            self.live.animate(artist)
+        self.report = None
+        self._finish()
+
+    def draw(self, frequency, fill_factor) -> str:
+        self.report = rep = aliasing_report(frequency, fill_factor)
+        self._pattern.set_data(rep["x_um"], rep["pattern"])
+        self._alias.set_data(rep["x_um"], rep["alias"])
+        self._samples.set_data(rep["pixel_um"], rep["samples"])
+        self._mtf.set_ydata(ps.pixel_mtf(self._f, PITCH_MM, fill_factor))
+        self._marker.set_data([frequency], [abs(rep["mtf"])])
+        return rep["html"]
+
+
+class BayerExplorer(Explorer):
+    """Stripe period of a grey chart → Bayer mosaic → bilinear demosaic and its false colour."""
+
+    title = "Bayer demosaic explorer"
+    _gap = 4
+
+    def __init__(self, period_px=8.0):
+        self.controls = {"period_px": slider("period [px]", period_px, 2, 24, 0.25, fmt=".2f")}
+        self.live = LiveFigure((7.0, 2.6))
+        ax = self.live.figure.add_subplot()
+        self.live.figure.subplots_adjust(0.01, 0.02, 0.99, 0.88)
+        rep = bayer_report(period_px)
+        self._masks = np.moveaxis(ps.bayer_masks(rep["mosaic"].shape), 0, -1)
+        # one image of three panels: one resampling per update instead of three
+        self._image = self.live.animate(ax.imshow(self._panels(rep), interpolation="nearest"))
+        size = rep["mosaic"].shape[1]
+        for k, name in enumerate(("scene (grey)", "sensor RGGB", "bilinear demosaic")):
+            ax.text(k * (size + self._gap) + size / 2, -2, name, ha="center", fontsize=9)
+        ax.set(xticks=[], yticks=[])
+        ax.axis("off")
+        self.report = None
+        self._finish()
+
+    def _panels(self, rep) -> np.ndarray:
+        size = rep["mosaic"].shape[0]
+        gap = np.ones((size, self._gap, 3))
+        coloured = self._masks * rep["mosaic"][..., None]
+        return _rgb8(np.concatenate([rep["scene"], gap, coloured, gap, rep["rgb"]], axis=1))
+
+    def draw(self, period_px) -> str:
+        self.report = rep = bayer_report(period_px)
+        self._image.set_data(self._panels(rep))
+        return rep["html"]
