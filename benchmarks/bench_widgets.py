@@ -16,8 +16,8 @@ TARGET_MS = 50.0
 
 
 def _cases():
-    from photolib.nb import (distortion, glossary, intro, measurement, optics, plane, products,
-                             projection, resection, rotations, sensors, stereo)
+    from photolib.nb import (bundle, distortion, glossary, intro, measurement, optics, plane,
+                             products, projection, resection, rotations, sensors, stereo)
 
     return [
         (rotations.RotationExplorer, "phi", (10.0, 60.0)),
@@ -32,6 +32,9 @@ def _cases():
         (resection.DLTExplorer, "depth", (1.0, 6.0)),
         (stereo.StereoPairExplorer, "B", (10.0, 50.0)),
         (stereo.EpipolarExplorer, "x1", (-10.0, 10.0)),
+        (bundle.BlockExplorer, "n_control", (4.0, 8.0)),
+        (bundle.BlunderExplorer, "blunder_um", (20.0, 60.0)),
+        (bundle.PrecisionExplorer, "noise_um", (2.0, 6.0)),
         (optics.ThinLensExplorer, "a", (100.0, 300.0)),
         (optics.DepthOfFieldExplorer, "k", (2.8, 11.0)),
         (optics.AiryExplorer, "k", (4.0, 11.0)),

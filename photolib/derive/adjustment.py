@@ -74,3 +74,104 @@ def grey_levels(bits: int) -> int:
     if not 0 < bits <= 16:
         raise ValueError(f"bits must be in 1..16, got {bits}")
     return len({tuple((v >> i) & 1 for i in range(bits)) for v in range(1 << bits)})
+
+
+# -- chapter 10: bundle adjustment ----------------------------------------------------------------
+
+def similarity_parameters() -> int:
+    """Datum defect of a free network: the rank of ∂(m·R·X + t)/∂(t, rotation, m) at m = 1,
+    R = I for a generic set of points (three translations, three rotations, one scale).
+
+    >>> similarity_parameters()
+    7
+    """
+    t = sp.symbols("t1:4")
+    a = sp.symbols("a1:4")
+    m = sp.Symbol("m")
+    W = sp.Matrix([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+    params = (*t, *a, m)
+    rows = []
+    for X in ([0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [2, 3, 5]):
+        Xv = sp.Matrix(X)
+        image = (1 + m) * (sp.eye(3) + W) * Xv + sp.Matrix(t)   # first order at m = 0, W = 0
+        J = image.jacobian(params).subs({p: 0 for p in params})
+        rows.extend(J.tolist())
+    return sp.Matrix(rows).rank()
+
+
+def datum_defect(datum: str = "free") -> int:
+    """7 for a free network (similarity), 0 for a datum by ≥ 3 control points."""
+    if datum == "free":
+        return similarity_parameters()
+    if datum == "control":
+        return 0
+    raise ValueError(f"datum must be 'free' or 'control', got {datum!r}")
+
+
+def block_redundancy(images: int, points: int, rays: int, control: int = 0,
+                     interior: int = 0, datum: str = "control") -> dict:
+    """Counts of a bundle block: ``n = 2·rays``, ``u = 6·images + 3·(points − control) +
+    interior`` (control points fixed), ``d`` and ``r = n − u + d``.
+
+    >>> block_redundancy(2, 10, 20, control=4)
+    {'n': 40, 'u': 30, 'd': 0, 'r': 10}
+    """
+    if min(images, points, rays, control, interior) < 0 or control > points:
+        raise ValueError("counts must be non-negative and control ≤ points")
+    n = 2 * rays
+    u = bundle_unknowns(images, points - control) + interior
+    d = datum_defect(datum)
+    return {"n": n, "u": u, "d": d, "r": n - u + d}
+
+
+def redundancy_trace(n: int = 3, u: int = 2):
+    """``trace(I − A (AᵀA)⁻¹ Aᵀ)`` for a symbolic n×u design matrix A (SymPy, cancelled).
+
+    The redundancy numbers r_k = (Q_vv P)_kk (P = I) sum to n − u.
+
+    >>> redundancy_trace(3, 2)
+    1
+    """
+    A = sp.Matrix(n, u, sp.symbols(f"a0:{n * u}"))
+    N = A.T * A
+    H = A * N.adjugate() * A.T / N.det()
+    return sp.cancel(sp.trace(sp.eye(n) - H))
+
+
+def normal_contribution(u: int = 3):
+    """``(aᵀa, aᵀl)`` of one observation row ``a`` (1×u) with reduced observation l:
+    the observation's contribution to the normal equations ``N = Σ aᵀa``, ``n = Σ aᵀl``.
+
+    >>> N, b = normal_contribution(2)
+    >>> N.shape, b.shape
+    ((2, 2), (2, 1))
+    """
+    a = sp.Matrix(1, u, sp.symbols(f"a1:{u + 1}"))
+    lv = sp.Symbol("l")
+    return a.T * a, a.T * lv
+
+
+def tau_from_t():
+    """Pope's τ as a function of Student's t with r − 1 degrees of freedom.
+
+    With ``w`` the standardised residual, ``Ω'`` the sum of squares of the *other*
+    observations and ``σ̂0² = (w² + Ω')/r`` (σ = 1): ``τ² = r·w²/(w² + Ω')`` and
+    ``t² = (r − 1)·w²/Ω'``. Eliminating Ω' gives ``τ = t·√r/√(r − 1 + t²)``.
+
+    >>> tau_from_t()
+    sqrt(r)*t/sqrt(r + t**2 - 1)
+    """
+    w, om, r, t = sp.symbols("w Omega r t", positive=True)
+    tau2 = r * w**2 / (w**2 + om)
+    om_t = sp.solve(sp.Eq(t**2, (r - 1) * w**2 / om), om)[0]
+    return sp.sqrt(r) * t / sp.sqrt(sp.factor(sp.cancel(r * t**2 / tau2.subs(om, om_t))))
+
+
+def t_quantile(alpha, nu, digits: int = 30):
+    """Two-sided critical value k with ``P(|T_ν| > k) = alpha`` (mpmath root of :func:`t_tail`)."""
+    with mpmath.workdps(digits):
+        f = lambda k: t_tail(k, nu) - mpmath.mpf(alpha)  # noqa: E731 - falls in k
+        lo, hi = mpmath.mpf(0), mpmath.mpf(1)
+        while f(hi) > 0:
+            lo, hi = hi, 2 * hi
+        return mpmath.findroot(f, (lo, hi), solver="illinois")

@@ -11,10 +11,10 @@ Every chapter notebook starts with::
 widgets of each chapter live in the submodules (:mod:`photolib.nb.intro`,
 :mod:`photolib.nb.optics`, :mod:`photolib.nb.sensors`, :mod:`photolib.nb.rotations`,
 :mod:`photolib.nb.distortion`, :mod:`photolib.nb.projection`, :mod:`photolib.nb.plane`,
-:mod:`photolib.nb.resection`, :mod:`photolib.nb.stereo`,
+:mod:`photolib.nb.resection`, :mod:`photolib.nb.stereo`, :mod:`photolib.nb.bundle`,
 :mod:`photolib.nb.measurement`, :mod:`photolib.nb.products`, :mod:`photolib.nb.glossary`),
-so that a notebook shows the idea and not the plumbing. The widgets' callbacks are plain functions, tested in
-``tests/test_nb.py`` and timed in ``benchmarks/bench_widgets.py``.
+so that a notebook shows the idea and not the plumbing. The widgets' callbacks are plain
+functions, tested in ``tests/test_nb*.py`` and timed in ``benchmarks/bench_widgets.py``.
 """
 
 from __future__ import annotations
@@ -26,6 +26,7 @@ from photolib.nb.text import matrix_html, rounded, show
 
 __all__ = [
     "REQUIREMENTS",
+    "bundle",
     "check_environment",
     "distortion",
     "glossary",
@@ -117,7 +118,7 @@ def setup() -> None:
 def __getattr__(name):
     # chapter modules on first use: `nb.rotations` without importing all chapters
     if name in ("intro", "optics", "sensors", "rotations", "distortion", "projection", "plane",
-                "resection", "stereo", "measurement", "products", "glossary",
+                "resection", "stereo", "bundle", "measurement", "products", "glossary",
                 "live", "draw"):
         return importlib.import_module(f"photolib.nb.{name}")
     raise AttributeError(f"module 'photolib.nb' has no attribute {name!r}")

@@ -1,0 +1,584 @@
+r"""Bundle adjustment / Bündelblockausgleichung: all images and object points at once.
+
+Observations are image coordinates ``x'_k`` (N, 2) with the image ``j(k)`` and the object
+point ``i(k)`` they belong to. Unknowns: the exterior orientation
+``(X0, Y0, Z0, ω, φ, κ)`` of every image, the coordinates of every object point that is
+not a fixed control point, and optionally interior orientation and distortion common to
+all images (self-calibration / Selbstkalibrierung). Gauss–Markov model with equal weights:
+
+.. math::
+    v = A\,\hat{dx} - l,\qquad
+    N = A^TA = \begin{pmatrix} N_{yy} & N_{yp}\\ N_{py} & N_{pp}\end{pmatrix},\qquad
+    (N_{yy} - N_{yp}N_{pp}^{-1}N_{py})\,\hat{dy} = b_y - N_{yp}N_{pp}^{-1}b_p
+
+``N_pp`` is block diagonal (one 3×3 block per point), so the points are eliminated point by
+point (Schur complement, reduced normal equations) and back-substituted,
+``dp_i = N_ii^{-1}(b_i − N_iy dy)``. The datum (Datum) is fixed by control points
+(Passpunkte, fixed coordinates) or, for a free network (freies Netz, *swobodna sieć*), by
+the seven inner constraints of a spatial similarity on the object points
+(minimum norm of their corrections, ``Bᵀ dp = 0``), added by Lagrange multipliers.
+Then
+
+.. math::
+    σ_0 = \sqrt{\frac{v^Tv}{r}},\quad r = n - u + d,\quad
+    r_k = (Q_{vv}P)_{kk} = 1 - (A Q_{xx} A^T)_{kk},\quad \sum_k r_k = r,\quad
+    w_k = \frac{v_k}{σ\sqrt{q_{vv,k}}},\ \ τ_k = \frac{v_k}{\hat σ_0\sqrt{q_{vv,k}}}
+
+(d = 7 for a free network, 0 with control points). The distortion is evaluated at the
+measured point reduced to the principal point (CONVENTIONS), so the observation equation is
+``x' = x'0 − c·kx/N + Δx'(x'_obs − x'0)``. NumPy only.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from photolib._validate import as_scalar, check_finite
+from photolib.collinearity import PointBehindCameraError, collinearity_jacobian, project
+from photolib.distortion import Distortion
+from photolib.rotations import rotation_opk
+from photolib.transforms._base import ConvergenceError
+
+__all__ = ["BundleResult", "DatumError", "IterationRecord", "SnoopingResult",
+           "INTERIOR_PARAMETERS", "bundle_adjustment", "critical_value", "data_snooping",
+           "inner_constraints", "normal_matrix_pattern", "student_t_cdf"]
+
+#: parameters that self-calibration can estimate, in this order
+INTERIOR_PARAMETERS = ("c", "x0", "y0", "A1", "A2", "A3", "B1", "B2", "C1", "C2")
+_DIST = ("A1", "A2", "A3", "B1", "B2", "C1", "C2")  # order of Distortion.jacobian_params
+
+
+class DatumError(ValueError):
+    """The datum is not fixed or the normal equations are singular (names the reason)."""
+
+
+@dataclass(frozen=True)
+class IterationRecord:
+    """One Gauss–Newton step: the residuals *before* the step and the size of the step."""
+
+    iteration: int
+    vtv: float  #: vᵀv at the start of the iteration, image unit²
+    max_length_update: float  #: largest |update| of X0 and points, object unit
+    max_angle_update: float  #: largest |update| of ω, φ, κ, radians
+
+
+@dataclass(frozen=True)
+class BundleResult:
+    """Result of :func:`bundle_adjustment`; covariances already scaled by σ0²."""
+
+    exterior: np.ndarray  #: (M, 6) X0, Y0, Z0 (object unit), ω, φ, κ (rad) per image
+    points: np.ndarray  #: (P, 3) object points (control points unchanged)
+    c: float
+    x0: float
+    y0: float
+    distortion: Distortion
+    calibrate: tuple  #: the interior parameters estimated, in INTERIOR_PARAMETERS order
+    sigma0: float  #: a-posteriori σ0, image unit (NaN if r = 0)
+    n_observations: int  #: n = 2·N
+    n_unknowns: int  #: u = 6M + 3·(free points) + len(calibrate)
+    datum_defect: int  #: d = 7 (free network) or 0
+    redundancy: int  #: r = n − u + d
+    residuals: np.ndarray  #: (N, 2) v = adjusted − observed, image unit
+    qvv: np.ndarray  #: (N, 2) diagonal of Q_vv (P = I), dimensionless
+    redundancy_numbers: np.ndarray  #: (N, 2) r_k = (Q_vv P)_kk
+    exterior_covariance: np.ndarray  #: (M, 6, 6)
+    point_covariance: np.ndarray  #: (P, 3, 3), zero for fixed control points
+    interior_covariance: np.ndarray  #: (k, k) for ``calibrate``
+    iterations: int
+    converged: bool
+    history: tuple = field(default_factory=tuple)  #: IterationRecord per iteration
+
+    @property
+    def standardized_residuals(self) -> np.ndarray:
+        """τ_k = v_k / (σ̂0 √q_vv,k), (N, 2); NaN where q_vv = 0 (uncontrolled)."""
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(self.qvv > 1e-12, self.residuals / (self.sigma0 * np.sqrt(
+                np.maximum(self.qvv, 1e-300))), np.nan)
+
+    @property
+    def point_std(self) -> np.ndarray:
+        """(P, 3) standard deviations σX, σY, σZ of the object points."""
+        return np.sqrt(np.einsum("pii->pi", self.point_covariance))
+
+    def interior(self) -> dict:
+        """``{'c': …, 'x0': …, 'y0': …, 'A1': …, …}`` of the adjusted camera."""
+        return {"c": float(self.c), "x0": float(self.x0), "y0": float(self.y0)} | {
+            k: float(v) for k, v in self.distortion.params.items() if k in _DIST}
+
+
+@dataclass(frozen=True)
+class SnoopingResult:
+    """Data snooping (Baarda) on the standardised residuals of a bundle result."""
+
+    test: str  #: 'w' (normal, σ known a priori) or 'tau' (Pope, σ̂0 of the adjustment)
+    alpha: float
+    critical: float
+    statistic: np.ndarray  #: (N, 2)
+    flagged: np.ndarray  #: (K, 2) int rows (observation index, 0 = x' / 1 = y'), worst first
+
+    @property
+    def worst(self):
+        """``(observation, coordinate)`` of the largest |statistic|, or None if none flagged."""
+        return tuple(int(v) for v in self.flagged[0]) if len(self.flagged) else None
+
+
+# -- statistics (NumPy/math only) -----------------------------------------------------------------
+
+def _betainc(a: float, b: float, x: float, y: float) -> float:
+    """Regularised incomplete beta I_x(a, b), y = 1 − x given separately (no cancellation),
+    by Lentz's continued fraction."""
+    if x <= 0.0:
+        return 0.0
+    if y <= 0.0:
+        return 1.0
+    if x > (a + 1.0) / (a + b + 2.0):
+        return 1.0 - _betainc(b, a, y, x)
+    front = math.exp(math.lgamma(a + b) - math.lgamma(a) - math.lgamma(b)
+                     + a * math.log(x) + b * math.log(y)) / a
+    tiny, f, C, D = 1e-300, 1.0, 1.0, 0.0
+    for i in range(400):
+        m = i // 2
+        if i == 0:
+            num = 1.0
+        elif i % 2 == 0:
+            num = m * (b - m) * x / ((a + 2 * m - 1) * (a + 2 * m))
+        else:
+            num = -(a + m) * (a + b + m) * x / ((a + 2 * m) * (a + 2 * m + 1))
+        D = 1.0 + num * D
+        D = 1.0 / (D if abs(D) > tiny else tiny)
+        C = 1.0 + num / C
+        C = C if abs(C) > tiny else tiny
+        f *= C * D
+        if abs(1.0 - C * D) < 1e-15:
+            break
+    return front * (f - 1.0)
+
+
+def student_t_cdf(t: float, dof: float) -> float:
+    r"""CDF of Student's t with ``dof`` degrees of freedom (``dof = inf``: normal).
+
+    .. math:: P(T_ν \le t) = 1 - \tfrac12 I_{ν/(ν+t^2)}(ν/2, 1/2)\quad (t \ge 0)
+
+    >>> round(student_t_cdf(2.0, 5), 6), round(student_t_cdf(0.0, 3), 12)
+    (0.94903, 0.5)
+    """
+    t = as_scalar(t, "t")
+    if not dof > 0:
+        raise ValueError(f"dof must be > 0, got {dof!r}")
+    if math.isinf(dof):
+        return 0.5 * math.erfc(-t / math.sqrt(2.0))
+    tail = 0.5 * _betainc(dof / 2.0, 0.5, dof / (dof + t * t), t * t / (dof + t * t))
+    return 1.0 - tail if t >= 0 else tail
+
+
+def critical_value(alpha: float, test: str = "normal", dof: float = math.inf) -> float:
+    r"""Two-sided critical value k with ``P(|T| > k) = alpha``.
+
+    Parameters
+    ----------
+    alpha : float
+        Significance level (Irrtumswahrscheinlichkeit), 0 < alpha < 1.
+    test : {'normal', 't', 'tau'}
+        ``'normal'``: Baarda's w test (σ known); ``'t'``: Student's t with ``dof``;
+        ``'tau'``: Pope's τ with redundancy ``dof`` = r (σ̂0 from the same adjustment),
+        :math:`τ_c = t_c\sqrt{r}/\sqrt{r-1+t_c^2}`, t_c of t with r − 1 degrees of freedom.
+
+    Examples
+    --------
+    >>> round(critical_value(0.001), 4), round(critical_value(0.05, "t", 5), 4)
+    (3.2905, 2.5706)
+    """
+    return _critical_value(as_scalar(alpha, "alpha"), str(test), float(dof))
+
+
+@functools.lru_cache(maxsize=256)
+def _critical_value(alpha: float, test: str, dof: float) -> float:
+    alpha = as_scalar(alpha, "alpha")
+    if not 0.0 < alpha < 1.0:
+        raise ValueError(f"alpha must be in (0, 1), got {alpha!r}")
+    if test == "tau":
+        if not dof > 1 or math.isinf(dof):
+            raise ValueError(f"the τ test needs a finite redundancy r > 1, got {dof!r}")
+        t = _critical_value(alpha, "t", dof - 1.0)
+        return t * math.sqrt(dof) / math.sqrt(dof - 1.0 + t * t)
+    if test not in ("normal", "t"):
+        raise ValueError(f"test must be 'normal', 't' or 'tau', got {test!r}")
+    nu = math.inf if test == "normal" else float(dof)
+    lo, hi, target = 0.0, 1.0, 1.0 - alpha / 2.0
+    while student_t_cdf(hi, nu) < target:
+        hi *= 2.0
+    for _ in range(200):  # bisection to the last bit
+        mid = 0.5 * (lo + hi)
+        if mid in (lo, hi):
+            break
+        lo, hi = (mid, hi) if student_t_cdf(mid, nu) < target else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
+def data_snooping(result: BundleResult, alpha: float = 0.001, sigma: float | None = None
+                  ) -> SnoopingResult:
+    """Test every image coordinate for a gross error (Baarda's data snooping).
+
+    With ``sigma`` (the a-priori σ of an image coordinate) the w test ``w = v/(σ√q_vv)``
+    against the normal distribution; without it Pope's τ test ``τ = v/(σ̂0√q_vv)`` against
+    the τ distribution with r degrees of freedom. Flagged: |statistic| > critical value.
+    Only the worst observation should be removed before adjusting again.
+
+    Returns
+    -------
+    SnoopingResult
+    """
+    if sigma is None:
+        test, crit = "tau", critical_value(alpha, "tau", result.redundancy)
+        stat = result.standardized_residuals
+    else:
+        sigma = as_scalar(sigma, "sigma", positive=True)
+        test, crit = "w", critical_value(alpha, "normal")
+        stat = result.standardized_residuals * (result.sigma0 / sigma)
+    mag = np.where(np.isfinite(stat), np.abs(stat), -1.0)
+    idx = np.argwhere(mag > crit)
+    order = np.argsort(-mag[idx[:, 0], idx[:, 1]], kind="stable") if len(idx) else []
+    return SnoopingResult(test, float(alpha), float(crit), stat, idx[order].reshape(-1, 2))
+
+
+# -- structure --------------------------------------------------------------------------------------
+
+def inner_constraints(points) -> np.ndarray:
+    r"""Inner constraints B (3P, 7) of a free network: ``Bᵀ dp = 0`` fixes the datum.
+
+    Columns: three translations, three rotations and the scale of the object points
+    (coordinates reduced to their centroid): for a point ``X``
+    :math:`B_i = [I_3 \mid [X]_\times^T \mid X]`. ``N·G = 0`` for the full similarity G.
+
+    >>> inner_constraints([[1.0, 0, 0], [-1.0, 0, 0]]).shape
+    (6, 7)
+    """
+    P = np.asarray(points, float)
+    if P.ndim != 2 or P.shape[1] != 3:
+        raise ValueError(f"points has shape {P.shape}; expected (P, 3)")
+    Xc = P - P.mean(axis=0)
+    x, y, z = Xc.T
+    o, one = np.zeros(len(P)), np.ones(len(P))
+    cols = [(one, o, o), (o, one, o), (o, o, one), (o, -z, y), (z, o, -x), (-y, x, o), (x, y, z)]
+    return np.column_stack([np.column_stack(cc).ravel() for cc in cols])
+
+
+def normal_matrix_pattern(image_index, point_index, n_images: int, n_points: int,
+                          n_interior: int = 0, fixed=(), reduced: bool = False) -> np.ndarray:
+    """Non-zero pattern (boolean u×u) of N, order: images (6 each), interior, points (3 each).
+
+    ``fixed`` lists point indices with fixed coordinates (no columns). ``reduced``: the
+    pattern of the reduced normal matrix (points eliminated), (6M + k) square: images are
+    coupled where they share a new point. For ``matplotlib``'s ``spy``.
+
+    >>> normal_matrix_pattern([0, 1], [0, 0], 2, 1).shape
+    (15, 15)
+    """
+    j, i = np.asarray(image_index, int), np.asarray(point_index, int)
+    free = np.setdiff1d(np.arange(n_points), np.asarray(fixed, int))
+    inc = np.zeros((n_images, n_points), bool)  # incidence: image sees point
+    inc[j, i] = True
+    inc = inc[:, free]
+    M, k = n_images, n_interior
+    blocks = np.zeros((M + 1 + len(free),) * 2, bool)  # images, interior, points
+    blocks[:M, :M] = np.eye(M, dtype=bool)
+    blocks[:M, M] = blocks[M, :M] = k > 0
+    blocks[M, M] = k > 0
+    blocks[M, M + 1:] = blocks[M + 1:, M] = (k > 0) & inc.any(axis=0)
+    blocks[:M, M + 1:] = inc
+    blocks[M + 1:, :M] = inc.T
+    blocks[M + 1:, M + 1:] = np.eye(len(free), dtype=bool)
+    if reduced:
+        blocks = blocks[:M + 1, :M + 1]
+        blocks[:M, :M] |= (inc.astype(np.float32) @ inc.T.astype(np.float32)) > 0
+    sizes = np.r_[np.full(M, 6), k, np.full(len(free), 3)][:len(blocks)]
+    return np.repeat(np.repeat(blocks, sizes, axis=0), sizes, axis=1)
+
+
+# -- the adjustment ---------------------------------------------------------------------------------
+
+def _check_inputs(xy, image_index, point_index, exterior, points, control):
+    xy = np.asarray(xy, float)
+    if xy.ndim != 2 or xy.shape[1] != 2:
+        raise ValueError(f"xy has shape {xy.shape}; expected (N, 2)")
+    check_finite(xy, "xy")
+    idx = []
+    for name, v in (("image_index", image_index), ("point_index", point_index)):
+        a = np.asarray(v)
+        if a.shape != (len(xy),):
+            raise ValueError(f"{name} has shape {a.shape}; expected ({len(xy)},), one per row of xy")
+        if not np.issubdtype(a.dtype, np.integer):
+            raise ValueError(f"{name} must hold integers, got dtype {a.dtype}")
+        idx.append(a.astype(int))
+    ext = np.array(exterior, float)
+    pts = np.array(points, float)
+    if ext.ndim != 2 or ext.shape[1] != 6:
+        raise ValueError(f"exterior has shape {ext.shape}; expected (M, 6) = X0, Y0, Z0, ω, φ, κ")
+    if pts.ndim != 2 or pts.shape[1] != 3:
+        raise ValueError(f"points has shape {pts.shape}; expected (P, 3)")
+    check_finite(ext, "exterior")
+    check_finite(pts, "points")
+    j, i = idx
+    for name, a, m in (("image_index", j, len(ext)), ("point_index", i, len(pts))):
+        if len(a) and (a.min() < 0 or a.max() >= m):
+            bad = int(a[(a < 0) | (a >= m)][0])
+            raise ValueError(f"{name} contains {bad}, outside 0 … {m - 1}")
+    pairs = j * len(pts) + i
+    if len(np.unique(pairs)) != len(pairs):
+        k = int(np.flatnonzero(np.bincount(pairs) > 1)[0])
+        raise ValueError(f"point {k % len(pts)} is observed twice in image {k // len(pts)}")
+    ctrl = np.zeros(len(pts), bool)
+    if control is not None:
+        c_arr = np.asarray(control)
+        if c_arr.dtype == bool:
+            if c_arr.shape != (len(pts),):
+                raise ValueError(f"control mask has shape {c_arr.shape}; expected ({len(pts)},)")
+            ctrl = c_arr.copy()
+        else:
+            ctrl[np.asarray(c_arr, int).ravel()] = True
+    return xy, j, i, ext, pts, ctrl
+
+
+def _check_geometry(j, i, ext, pts, ctrl, datum):
+    per_image = np.bincount(j, minlength=len(ext))
+    if per_image.min() < 3:
+        k = int(np.argmin(per_image))
+        raise DatumError(f"image {k} has {per_image[k]} observed points; at least 3 are needed "
+                         "for its six orientation unknowns")
+    rays = np.bincount(i, minlength=len(pts))
+    lonely = np.flatnonzero((rays < 2) & ~ctrl)
+    if len(lonely):
+        k = int(lonely[0])
+        raise DatumError(f"point {k} is observed in {rays[k]} image(s) and is not a control "
+                         "point: a new point needs at least two rays")
+    if datum == "control":
+        used = np.flatnonzero(ctrl & (rays > 0))
+        if len(used) < 3:
+            raise DatumError(f"{len(used)} observed control point(s): the datum (7 parameters) "
+                             "needs at least 3 not on a line, or datum='free'")
+        C = pts[used] - pts[used].mean(axis=0)
+        sv = np.linalg.svd(C, compute_uv=False)
+        if sv[1] <= 1e-9 * max(sv[0], 1e-300):
+            raise DatumError("the control points lie on a straight line: rotation about it is "
+                             "not fixed (datum defect)")
+
+
+def bundle_adjustment(xy, image_index, point_index, exterior, points, c, x0=0.0, y0=0.0,
+                      distortion=None, *, control=None, datum: str = "control",
+                      calibrate=(), tol: float = 1e-10, max_iter: int = 30,
+                      check: bool = True, callback=None) -> BundleResult:
+    r"""Bundle adjustment of a block by Gauss–Newton on the reduced normal equations.
+
+    Parameters
+    ----------
+    xy : array_like, shape (N, 2)
+        Measured image coordinates (image unit, e.g. mm), all of equal precision.
+    image_index, point_index : array_like of int, shape (N,)
+        Image j and object point i of each measurement.
+    exterior : array_like, shape (M, 6)
+        Approximate ``(X0, Y0, Z0, ω, φ, κ)`` per image (object unit, radians).
+    points : array_like, shape (P, 3)
+        Approximate object points; the rows of control points are their fixed coordinates.
+    c, x0, y0 : float
+        Camera constant (> 0) and principal point (image unit), common to all images.
+    distortion : Distortion, optional
+        Starting (or fixed) distortion, evaluated at the measured points; ``r0`` is kept.
+    control : array_like of int or bool mask (P,), optional
+        Control points (Passpunkte), held fixed.
+    datum : {'control', 'free'}
+        ``'control'``: datum by the control points (≥ 3, not on a line); ``'free'``: free
+        network with the seven inner constraints on all object points (``control`` ignored).
+    calibrate : iterable of str
+        Interior parameters to estimate (self-calibration), from ``INTERIOR_PARAMETERS``.
+    tol : float
+        Stop when the update is below ``tol`` (angles, rad) and ``tol·extent`` (lengths).
+    max_iter : int
+        Iteration limit; reaching it raises ``ConvergenceError`` unless ``check=False``.
+    callback : callable, optional
+        ``callback(record)`` with an :class:`IterationRecord` after each iteration.
+
+    Returns
+    -------
+    BundleResult
+
+    Raises
+    ------
+    ValueError
+        Shapes, NaN, indices out of range, unknown parameters.
+    DatumError
+        Datum not fixed, image with < 3 points, a new point seen once, singular normal matrix.
+    ConvergenceError
+        Divergence (points behind a camera, non-finite steps) or no convergence.
+
+    Examples
+    --------
+    >>> X = np.array([[0, 0, 0], [10, 0, 1], [0, 10, 2], [10, 10, 0], [5, 5, 3.0]])
+    >>> ext = np.array([[3.0, 5, 30, 0, 0, 0], [7.0, 5, 30, 0, 0, 0]])
+    >>> obs = [project(X, e[:3], rotation_opk(*e[3:]), 20.0) for e in ext]
+    >>> res = bundle_adjustment(np.vstack(obs), np.repeat([0, 1], 5), np.tile(np.arange(5), 2),
+    ...                         ext + 0.01, X, 20.0, control=[0, 1, 2, 3])
+    >>> res.redundancy, bool(np.allclose(res.exterior, ext)), bool(np.allclose(res.points, X))
+    (5, True, True)
+    """
+    xy, j, i, ext, pts, ctrl = _check_inputs(xy, image_index, point_index, exterior, points,
+                                             control)
+    if datum not in ("control", "free"):
+        raise ValueError(f"datum must be 'control' or 'free', got {datum!r}")
+    if datum == "free":
+        ctrl[:] = False
+    calib = tuple(calibrate)
+    unknown = [n for n in calib if n not in INTERIOR_PARAMETERS]
+    if unknown or len(set(calib)) != len(calib):
+        raise ValueError(f"calibrate {calib!r}: each name once, from {INTERIOR_PARAMETERS}")
+    calib = tuple(n for n in INTERIOR_PARAMETERS if n in calib)
+    if distortion is not None and not isinstance(distortion, Distortion):
+        raise TypeError(f"distortion must be a photolib.Distortion or None, got "
+                        f"{type(distortion).__name__}")
+    interior = {"c": as_scalar(c, "c", positive=True), "x0": as_scalar(x0, "x0"),
+                "y0": as_scalar(y0, "y0")}
+    r0 = 0.0 if distortion is None else distortion.params["r0"]
+    interior |= {k: (0.0 if distortion is None else distortion.params[k]) for k in _DIST}
+    _check_geometry(j, i, ext, pts, ctrl, datum)
+
+    M, P, k = len(ext), len(pts), len(calib)
+    free = np.flatnonzero(~ctrl)
+    slot = np.full(P, -1)
+    slot[free] = np.arange(len(free))
+    n_obs, u = 2 * len(xy), 6 * M + 3 * len(free) + k
+    d = 7 if datum == "free" else 0
+    r = n_obs - u + d
+    if r < 0:
+        raise DatumError(f"more unknowns than observations: n = {n_obs}, u = {u}, d = {d}")
+    extent = float(np.max(np.ptp(pts, axis=0))) or 1.0
+    ny = 6 * M + k + d
+
+    def linearise(ext, pts, interior):
+        dist = Distortion(r0=r0, **{n: interior[n] for n in _DIST})
+        pp = np.array([interior["x0"], interior["y0"]])
+        red = xy - pp
+        v = np.empty_like(xy)
+        Ay = np.zeros((len(xy), 2, ny))
+        Ap = np.empty((len(xy), 2, 3))
+        for jj in range(M):
+            rows = np.flatnonzero(j == jj)
+            R = rotation_opk(*ext[jj, 3:])
+            Xj = pts[i[rows]]
+            proj = project(Xj, ext[jj, :3], R, interior["c"], *pp)
+            v[rows] = proj - xy[rows]
+            J = collinearity_jacobian(Xj, ext[jj, :3], R, interior["c"], angles=tuple(ext[jj, 3:]))
+            Ay[rows, :, 6 * jj:6 * jj + 6] = J[:, :, :6]
+            Ap[rows] = J[:, :, 6:]
+            if k and "c" in calib:
+                Ay[rows, :, 6 * M + calib.index("c")] = (proj - pp) / interior["c"]
+        if not dist.is_zero:
+            v += dist.delta(red)
+        if k:
+            Jxy = dist.jacobian_xy(red)
+            Jpar = dist.jacobian_params(red)
+            for n, name in enumerate(calib):
+                col = 6 * M + n
+                if name in ("x0", "y0"):
+                    e = 0 if name == "x0" else 1
+                    Ay[:, :, col] = -Jxy[:, :, e]
+                    Ay[:, e, col] += 1.0
+                elif name != "c":
+                    Ay[:, :, col] = Jpar[:, :, _DIST.index(name)]
+        return v, Ay, Ap
+
+    def normals(v, Ay, Ap, pts):
+        lv = -v
+        A2 = Ay.reshape(-1, ny)
+        Nyy = A2.T @ A2
+        by = A2.T @ lv.ravel()
+        m = ctrl[i] == 0
+        Npp = np.zeros((len(free), 3, 3))
+        Npy = np.zeros((len(free), 3, ny))
+        bp = np.zeros((len(free), 3))
+        s = slot[i[m]]
+        ApT = Ap[m].transpose(0, 2, 1)
+        np.add.at(Npp, s, ApT @ Ap[m])
+        np.add.at(Npy, s, ApT @ Ay[m])
+        np.add.at(bp, s, (ApT @ lv[m][:, :, None])[:, :, 0])
+        if d:
+            Npy[:, :, 6 * M + k:] = inner_constraints(pts).reshape(P, 3, 7)[free]
+        Ninv = np.linalg.inv(Npp)
+        T = Ninv @ Npy  # (Pf, 3, ny)
+        K = Nyy - Npy.reshape(-1, ny).T @ T.reshape(-1, ny)
+        rhs = by - T.reshape(-1, ny).T @ bp.ravel()
+        return K, rhs, Ninv, T, bp
+
+    def solve_reduced(K):
+        scale = 1.0 / np.sqrt(np.where(np.abs(np.diag(K)) > 0, np.abs(np.diag(K)), 1.0))
+        Ks = K * scale[:, None] * scale[None, :]
+        sv = np.linalg.svd(Ks, compute_uv=False)
+        if sv[-1] <= 1e-12 * sv[0]:
+            what = ("the inner constraints do not remove the defect" if d else
+                    "the control points do not fix the datum")
+            raise DatumError(f"the reduced normal matrix is singular (condition "
+                             f"{sv[0] / max(sv[-1], 1e-300):.3g}): {what}, or the geometry is "
+                             "degenerate (e.g. self-calibration parameters not determined)")
+        return scale[:, None] * np.linalg.inv(Ks) * scale[None, :]
+
+    history, converged, it = [], False, 0
+    for it in range(1, max_iter + 1):
+        try:
+            v, Ay, Ap = linearise(ext, pts, interior)
+        except PointBehindCameraError as exc:
+            raise ConvergenceError(f"bundle adjustment diverged in iteration {it}: {exc}") from None
+        K, rhs, Ninv, T, bp = normals(v, Ay, Ap, pts)
+        Kinv = solve_reduced(K)
+        dy = Kinv @ rhs
+        dp = (Ninv @ bp[:, :, None])[:, :, 0] - T @ dy
+        if not (np.all(np.isfinite(dy)) and np.all(np.isfinite(dp))):
+            raise ConvergenceError(f"bundle adjustment diverged in iteration {it}: non-finite step")
+        de = dy[:6 * M].reshape(M, 6)
+        ext = ext + de
+        pts = pts.copy()
+        pts[free] += dp
+        for n, name in enumerate(calib):
+            interior[name] += dy[6 * M + n]
+        dl = max(float(np.max(np.abs(de[:, :3]))), float(np.max(np.abs(dp), initial=0.0)))
+        da = float(np.max(np.abs(de[:, 3:])))
+        rec = IterationRecord(it, float(np.sum(v**2)), dl, da)
+        history.append(rec)
+        if callback is not None:
+            callback(rec)
+        if dl <= tol * extent and da <= tol:
+            converged = True
+            break
+        if dl > 1e6 * extent:
+            raise ConvergenceError(f"bundle adjustment diverged in iteration {it}: an update of "
+                                   f"{dl:.3g} object units")
+    if not converged and check:
+        raise ConvergenceError(f"bundle adjustment did not converge to tol={tol:g} in {max_iter} "
+                               f"iterations (last length update {dl:.3g}, angle update {da:.3g}); "
+                               "pass check=False to get the last iterate")
+    try:
+        v, Ay, Ap = linearise(ext, pts, interior)
+    except PointBehindCameraError as exc:
+        raise ConvergenceError(f"bundle adjustment ended with {exc}") from None
+    K, rhs, Ninv, T, bp = normals(v, Ay, Ap, pts)
+    Kinv = solve_reduced(K)
+    # diag(A Q A^T) per observation: g = a_y − a_p T_i, q = g K⁻¹ gᵀ + a_p N_ii⁻¹ a_pᵀ
+    G = Ay.copy()
+    m = np.flatnonzero(~ctrl[i])
+    s = slot[i[m]]
+    G[m] -= Ap[m] @ T[s]
+    qhat = ((G.reshape(-1, ny) @ Kinv) * G.reshape(-1, ny)).sum(axis=1).reshape(-1, 2)
+    qhat[m] += ((Ap[m] @ Ninv[s]) * Ap[m]).sum(axis=2)
+    qvv = np.clip(1.0 - qhat, 0.0, 1.0)
+    sigma0 = float(np.sqrt(np.sum(v**2) / r)) if r > 0 else float("nan")
+    s2 = sigma0**2 if r > 0 else float("nan")
+    ext_cov = s2 * np.stack([Kinv[6 * a:6 * a + 6, 6 * a:6 * a + 6] for a in range(M)])
+    pcov = np.zeros((P, 3, 3))
+    pcov[free] = s2 * (Ninv + T @ Kinv @ T.transpose(0, 2, 1))
+    icov = s2 * Kinv[6 * M:6 * M + k, 6 * M:6 * M + k]
+    dist = Distortion(r0=r0, **{n: interior[n] for n in _DIST})
+    return BundleResult(ext, pts, float(interior["c"]), float(interior["x0"]),
+                        float(interior["y0"]), dist, calib,
+                        sigma0, n_obs, u, d, r, v, qvv, qvv.copy(), ext_cov, pcov, icov, it,
+                        converged, tuple(history))

@@ -1,0 +1,429 @@
+"""Bundle adjustment (photolib.bundle), checked by independent routes.
+
+* ``scipy.optimize.least_squares`` (trust region, finite-difference Jacobian with
+  ``jac_sparsity``) on the same residual function, written here from the collinearity
+  equations with our own rotation matrix and distortion polynomial;
+* the full (not reduced) normal equations assembled from that finite-difference Jacobian as a
+  ``scipy.sparse`` matrix, solved with ``scipy.sparse.linalg``, and its dense inverse for the
+  covariance, Q_vv and the redundancy numbers;
+* simulated blocks with known truth (seeded), a gross error injected and found;
+* SciPy's distributions for the critical values, mpmath (``photolib.derive.adjustment``)
+  for the t quantile.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import scipy.sparse as sps
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy import stats
+from scipy.optimize import least_squares
+from scipy.optimize._numdiff import approx_derivative, group_columns
+from scipy.sparse.linalg import spsolve
+
+import photolib as pl
+from photolib import bundle as bd
+from photolib.derive import adjustment as adj
+
+C = 50.0
+
+
+def _rot(o, p, k):
+    """R = R_ω·R_φ·R_κ written out (test's own, not the library's)."""
+    co, so, cp, sp_, ck, sk = np.cos(o), np.sin(o), np.cos(p), np.sin(p), np.cos(k), np.sin(k)
+    Ro = np.array([[1, 0, 0], [0, co, -so], [0, so, co]])
+    Rp = np.array([[cp, 0, sp_], [0, 1, 0], [-sp_, 0, cp]])
+    Rk = np.array([[ck, -sk, 0], [sk, ck, 0], [0, 0, 1]])
+    return Ro @ Rp @ Rk
+
+
+def _block(strips=2, per=3, noise=0.003, seed=0, A1=0.0, flat=False):
+    """Aerial block: images 200 m apart in strips 300 m apart, 500 m high, c = 50 mm.
+
+    ``flat``: exact nadir images at one height over a plane (c and Z0 then trade off)."""
+    rng = np.random.default_rng(seed)
+    f = 0.0 if flat else 1.0
+    ext = np.array([[k * 200.0, s * 300.0, 500.0 + f * rng.normal(0, 5),
+                     *np.radians(f * rng.normal(0, 1, 3))]
+                    for s in range(strips) for k in range(per)])
+    gx = np.arange(-150.0, (per - 1) * 200.0 + 151.0, 75.0)
+    gy = np.arange(-150.0, (strips - 1) * 300.0 + 151.0, 75.0)
+    P = np.array([[x, y, f * rng.uniform(0, 30)] for x in gx for y in gy])
+    dist = pl.Distortion(A1=A1) if A1 else None
+    xy, ji, pi = [], [], []
+    for j, e in enumerate(ext):
+        p = pl.project(P, e[:3], _rot(*e[3:]), C, distortion=dist)
+        ok = np.all(np.abs(p) < 60.0, axis=1)
+        xy.append(p[ok])
+        ji += [j] * int(ok.sum())
+        pi += list(np.flatnonzero(ok))
+    xy = np.vstack(xy) + rng.normal(0, noise, (len(ji), 2))
+    keep = np.bincount(pi, minlength=len(P))
+    assert keep.min() >= 2
+    return xy, np.array(ji), np.array(pi), ext, P
+
+
+def _corners(P):
+    lo, hi = P[:, :2].min(axis=0), P[:, :2].max(axis=0)
+    targets = [lo, hi, [lo[0], hi[1]], [hi[0], lo[1]]]
+    return sorted({int(np.argmin(np.linalg.norm(P[:, :2] - t, axis=1))) for t in targets})
+
+
+def _start(ext, P, control, seed=3):
+    rng = np.random.default_rng(seed)
+    P0 = P.copy()
+    free = np.setdiff1d(np.arange(len(P)), control)
+    P0[free] += rng.normal(0, 2.0, (len(free), 3))
+    return ext + np.r_[1.0, -1.0, 2.0, 0.01, -0.01, 0.02], P0
+
+
+def _residual_function(xy, ji, pi, n_img, control, P_fixed, calib=()):
+    """x ↦ v (2N,) with x = (exterior 6M, free points 3·Pf, c, x0, y0, A1 as in calib)."""
+    free = np.setdiff1d(np.arange(len(P_fixed)), control)
+
+    def fun(x):
+        ext = x[:6 * n_img].reshape(-1, 6)
+        P = P_fixed.copy()
+        P[free] = x[6 * n_img:6 * n_img + 3 * len(free)].reshape(-1, 3)
+        vals = dict(zip(calib, x[6 * n_img + 3 * len(free):]))
+        c, x0, y0, A1 = (vals.get("c", C), vals.get("x0", 0.0), vals.get("y0", 0.0),
+                         vals.get("A1", 0.0))
+        out = np.empty_like(xy)
+        for j in range(n_img):
+            m = ji == j
+            k = (P[pi[m]] - ext[j, :3]) @ _rot(*ext[j, 3:])        # rows: Rᵀ(X − X0)
+            red = xy[m] - [x0, y0]
+            delta = A1 * red * np.sum(red**2, axis=1, keepdims=True)  # Δ at the measured point
+            out[m] = np.column_stack([x0 - c * k[:, 0] / k[:, 2], y0 - c * k[:, 1] / k[:, 2]]) \
+                + delta - xy[m]
+        return out.ravel()
+
+    sparsity = sps.lil_matrix((2 * len(xy), 6 * n_img + 3 * len(free) + len(calib)), dtype=int)
+    slot = {p: n for n, p in enumerate(free)}
+    for n, (j, i) in enumerate(zip(ji, pi)):
+        for r in (2 * n, 2 * n + 1):
+            sparsity[r, 6 * j:6 * j + 6] = 1
+            if i in slot:
+                sparsity[r, 6 * n_img + 3 * slot[i]:6 * n_img + 3 * slot[i] + 3] = 1
+            sparsity[r, 6 * n_img + 3 * len(free):] = 1
+    return fun, sparsity, free
+
+
+@pytest.fixture(scope="module")
+def block():
+    xy, ji, pi, ext, P = _block()
+    control = _corners(P)
+    ext0, P0 = _start(ext, P, control)
+    res = bd.bundle_adjustment(xy, ji, pi, ext0, P0, C, control=control)
+    return xy, ji, pi, ext, P, control, ext0, P0, res
+
+
+def _scipy_solution(xy, ji, pi, ext0, P0, control, calib=(), interior0=()):
+    """SciPy's trust-region solution, polished by Gauss–Newton steps on the full sparse
+    normal equations (finite-difference Jacobian, ``spsolve``); returns (x, v, J, free)."""
+    fun, sparsity, free = _residual_function(xy, ji, pi, len(ext0), control, P0, calib)
+    x = np.r_[ext0.ravel(), P0[free].ravel(), list(interior0)]
+    x = least_squares(fun, x, jac_sparsity=sparsity, x_scale="jac", method="trf").x
+    groups = group_columns(sparsity)
+    for _ in range(3):
+        J = sps.csr_matrix(approx_derivative(fun, x, method="3-point", abs_step=1e-5,
+                                             sparsity=(sparsity, groups)))
+        x = x + spsolve((J.T @ J).tocsc(), -(J.T @ fun(x)))
+    return x, fun(x), J, free
+
+
+@pytest.fixture(scope="module")
+def block_scipy(block):
+    xy, ji, pi, ext, P, control, ext0, P0, res = block
+    return _scipy_solution(xy, ji, pi, ext0, P0, control)
+
+
+def test_agrees_with_scipy_least_squares(block, block_scipy):
+    xy, ji, pi, ext, P, control, ext0, P0, res = block
+    x, v, _, free = block_scipy
+    M = len(ext)
+    # SciPy's solution is limited by its finite-difference Jacobian (~1e-6 m here, 1e-4 σ);
+    # ours is at least as good a minimum of the same sum of squares
+    ext_scipy = x[:6 * M].reshape(-1, 6)
+    np.testing.assert_allclose(res.exterior[:, :3], ext_scipy[:, :3], atol=1e-5)
+    np.testing.assert_allclose(res.exterior[:, 3:], ext_scipy[:, 3:], atol=1e-8)
+    np.testing.assert_allclose(res.points[free].ravel(), x[6 * M:], atol=1e-5)
+    np.testing.assert_allclose(res.residuals.ravel(), v, atol=1e-8)
+    assert np.sum(res.residuals**2) <= v @ v * (1 + 1e-12)
+    assert np.max(np.abs(res.exterior[:, :3] - ext_scipy[:, :3])) < 1e-3 * np.min(
+        np.sqrt(np.einsum("mii->mi", res.exterior_covariance)[:, :3]))
+    assert res.converged and res.iterations < 10
+    np.testing.assert_array_equal(res.points[control], P[control])
+
+
+def test_covariance_and_redundancy_numbers_from_the_full_sparse_normal_equations(block,
+                                                                                 block_scipy):
+    xy, ji, pi, ext, P, control, ext0, P0, res = block
+    x, v, J, free = block_scipy
+    N = (J.T @ J).tocsc()
+    Q = np.linalg.inv(N.toarray())
+    Jd = J.toarray()
+    Qvv = np.eye(len(Jd)) - Jd @ Q @ Jd.T       # brute force, dense, P = I
+    r = len(Jd) - Jd.shape[1]
+    assert res.redundancy == r == res.n_observations - res.n_unknowns
+    np.testing.assert_allclose(res.redundancy_numbers.ravel(), np.diag(Qvv), atol=1e-6)
+    assert math.isclose(res.redundancy_numbers.sum(), r, rel_tol=1e-9)
+    s2 = v @ v / r
+    assert math.isclose(res.sigma0, math.sqrt(s2), rel_tol=1e-7)
+    M = len(ext)
+    for k in range(M):
+        np.testing.assert_allclose(res.exterior_covariance[k],
+                                   s2 * Q[6 * k:6 * k + 6, 6 * k:6 * k + 6], rtol=1e-4, atol=1e-12)
+    for n, p in enumerate(free[:10]):
+        b = 6 * M + 3 * n
+        np.testing.assert_allclose(res.point_covariance[p], s2 * Q[b:b + 3, b:b + 3], rtol=1e-4,
+                                   atol=1e-12)
+    assert np.all(res.point_covariance[control] == 0.0)
+
+
+def test_noise_free_block_recovers_the_truth():
+    xy, ji, pi, ext, P = _block(noise=0.0, seed=4)
+    control = _corners(P)
+    ext0, P0 = _start(ext, P, control)
+    seen = []
+    res = bd.bundle_adjustment(xy, ji, pi, ext0, P0, C, control=control, callback=seen.append)
+    np.testing.assert_allclose(res.exterior, ext, atol=1e-7)
+    np.testing.assert_allclose(res.points, P, atol=1e-6)
+    assert res.sigma0 < 1e-9
+    assert [h.iteration for h in seen] == list(range(1, res.iterations + 1))
+    assert seen == list(res.history)
+    assert seen[0].vtv > seen[-1].vtv
+
+
+def test_sigma0_estimates_the_noise_put_in():
+    xy, ji, pi, ext, P = _block(strips=2, per=4, noise=0.004, seed=7)
+    control = _corners(P)
+    res = bd.bundle_adjustment(xy, ji, pi, *_start(ext, P, control), C, control=control)
+    # σ0² ~ σ²·χ²_r/r: r > 500 gives σ0 within a few % of 4 µm
+    assert 0.0037 < res.sigma0 < 0.0043
+    assert res.redundancy > 500
+
+
+def test_free_network_minimum_norm():
+    xy, ji, pi, ext, P = _block(seed=2)
+    ext0, P0 = _start(ext, P, [])
+    free = bd.bundle_adjustment(xy, ji, pi, ext0, P0, C, datum="free")
+    assert free.datum_defect == 7 and free.redundancy == free.n_observations - free.n_unknowns + 7
+    assert math.isclose(free.redundancy_numbers.sum(), free.redundancy, rel_tol=1e-9)
+    # the centroid of the approximate points is kept exactly (translation constraints)
+    np.testing.assert_allclose(free.points.mean(axis=0), P0.mean(axis=0), atol=1e-8)
+    # minimal constraints: point a fixed, point b fixed, Z of point c fixed (3 + 3 + 1 = 7)
+    a, b, c = 0, len(P) - 1, 7
+    fun_P = free.points.copy()
+
+    def fun(x):
+        Q = fun_P.copy()
+        mask = np.ones(Q.shape, bool)
+        mask[a] = mask[b] = False
+        mask[c, 2] = False
+        Q[mask] = x[6 * len(ext):]
+        ext_ = x[:6 * len(ext)].reshape(-1, 6)
+        out = []
+        for j in range(len(ext_)):
+            m = ji == j
+            k = (Q[pi[m]] - ext_[j, :3]) @ _rot(*ext_[j, 3:])
+            out.append(np.column_stack([-C * k[:, 0] / k[:, 2], -C * k[:, 1] / k[:, 2]]) - xy[m])
+        return np.vstack(out).ravel()
+
+    mask = np.ones(P.shape, bool)
+    mask[a] = mask[b] = False
+    mask[c, 2] = False
+    x0 = np.r_[free.exterior.ravel(), free.points[mask]]
+    sol = least_squares(fun, x0 + 1e-3, method="lm", xtol=1e-15, ftol=1e-15)
+    # residuals and σ0 do not depend on the datum
+    np.testing.assert_allclose(free.residuals.ravel(), sol.fun, atol=1e-7)
+    # the minimum-norm datum has the smallest trace of the point covariance (same network)
+    J = sol.jac
+    Q = np.linalg.inv(J.T @ J) * free.sigma0**2
+    trace_min = np.trace(Q[6 * len(ext):, 6 * len(ext):])
+    assert np.trace(free.point_covariance.sum(axis=0)) < trace_min
+
+
+def test_self_calibration_recovers_c_principal_point_and_A1():
+    xy, ji, pi, ext, P = _block(strips=3, per=4, noise=0.001, seed=11, A1=-3e-6)
+    control = np.flatnonzero(np.random.default_rng(0).random(len(P)) < 0.3)
+    ext0, P0 = _start(ext, P, control)
+    calib = ("c", "x0", "y0", "A1")
+    res = bd.bundle_adjustment(xy, ji, pi, ext0, P0, C + 0.3, control=control, calibrate=calib)
+    x, _, _, _ = _scipy_solution(xy, ji, pi, ext0, P0, control, calib, (C + 0.3, 0.0, 0.0, 0.0))
+    got = res.interior()
+    np.testing.assert_allclose([got[n] for n in calib], x[-4:], rtol=1e-6, atol=1e-9)
+    assert abs(got["c"] - C) < 0.05 and abs(got["A1"] + 3e-6) < 3e-7
+    assert res.interior_covariance.shape == (4, 4)
+    assert res.calibrate == calib
+
+
+def test_gross_error_is_found_by_data_snooping():
+    xy, ji, pi, ext, P = _block(strips=2, per=4, noise=0.003, seed=5)
+    control = _corners(P)
+    ext0, P0 = _start(ext, P, control)
+    clean = bd.bundle_adjustment(xy, ji, pi, ext0, P0, C, control=control)
+    # 2n tests: at α = 0.001 about n/500 false alarms are expected; at 1e-5 none
+    assert len(bd.data_snooping(clean, 0.001, sigma=0.003).flagged) < 0.002 * clean.n_observations
+    assert bd.data_snooping(clean, 1e-5, sigma=0.003).worst is None
+    bad = xy.copy()
+    k = int(np.argmax(clean.redundancy_numbers[:, 0]))
+    bad[k, 0] += 0.05                                   # 50 µm blunder
+    res = bd.bundle_adjustment(bad, ji, pi, ext0, P0, C, control=control)
+    for snoop in (bd.data_snooping(res, 1e-5, sigma=0.003), bd.data_snooping(res, 1e-5)):
+        assert snoop.worst == (k, 0), snoop.test
+    w = bd.data_snooping(res, 0.001, sigma=0.003)
+    np.testing.assert_allclose(w.statistic, res.standardized_residuals * res.sigma0 / 0.003)
+    assert w.critical == pytest.approx(stats.norm.ppf(1 - 0.0005), abs=1e-12)
+
+
+@pytest.mark.parametrize("alpha", [0.1, 0.05, 0.01, 0.001, 1e-5])
+@pytest.mark.parametrize("dof", [1, 2, 5, 17, 120])
+def test_critical_values_agree_with_scipy(alpha, dof):
+    assert bd.critical_value(alpha) == pytest.approx(stats.norm.ppf(1 - alpha / 2), abs=1e-11)
+    assert bd.critical_value(alpha, "t", dof) == pytest.approx(stats.t.ppf(1 - alpha / 2, dof),
+                                                               rel=1e-10)
+    if dof > 1:
+        # τ²/r ~ Beta(1/2, (r − 1)/2) (Pope), a different route from τ(t)
+        tau2 = dof * stats.beta.ppf(1 - alpha, 0.5, (dof - 1) / 2)
+        assert bd.critical_value(alpha, "tau", dof) == pytest.approx(math.sqrt(tau2), rel=1e-8)
+
+
+def test_t_critical_value_agrees_with_mpmath_derivation():
+    assert bd.critical_value(0.05, "t", 5) == pytest.approx(float(adj.t_quantile(0.05, 5)),
+                                                            rel=1e-12)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.floats(-30.0, 30.0), st.integers(1, 300))
+def test_t_cdf_round_trip(t, dof):
+    assert bd.student_t_cdf(t, dof) == pytest.approx(stats.t.cdf(t, dof), abs=1e-12)
+    p = 2 * (1 - bd.student_t_cdf(abs(t), dof))
+    if 1e-10 < p < 1 - 1e-10:
+        assert bd.critical_value(p, "t", dof) == pytest.approx(abs(t), rel=1e-7, abs=1e-9)
+
+
+def test_tail_probability_rises_as_degrees_of_freedom_fall():
+    """Luhmann p. 90, corrected text (luhmann:p90-t-distribution): 'steigt'."""
+    tails = [2 * (1 - bd.student_t_cdf(2.0, nu)) for nu in (1, 3, 10, 30, math.inf)]
+    assert all(a > b for a, b in zip(tails, tails[1:]))
+
+
+def test_inner_constraints_span_the_null_space_of_the_free_network():
+    xy, ji, pi, ext, P = _block(seed=1)
+    fun, sparsity, free = _residual_function(xy, ji, pi, len(ext), [], P)
+    J = least_squares(fun, np.r_[ext.ravel(), P.ravel()], jac_sparsity=sparsity, max_nfev=1,
+                      jac="3-point", diff_step=1e-6).jac.toarray()
+    sv = np.linalg.svd(J, compute_uv=False)
+    assert sv[-8] / sv[0] > 1e-7 and sv[-7] / sv[0] < 1e-7      # defect exactly 7
+    assert bd.inner_constraints(P).shape == (3 * len(P), 7)
+    assert adj.similarity_parameters() == 7
+
+
+def test_counts_agree_with_the_derivation(block):
+    *_, P, control, _, _, res = block
+    rays = res.n_observations // 2
+    counts = adj.block_redundancy(len(res.exterior), len(P), rays, control=len(control))
+    assert (counts["n"], counts["u"], counts["r"]) == (res.n_observations, res.n_unknowns,
+                                                       res.redundancy)
+
+
+def test_normal_matrix_pattern_matches_the_full_normal_matrix(block, block_scipy):
+    xy, ji, pi, ext, P, control, ext0, P0, res = block
+    _, _, J, free = block_scipy
+    N = (abs(J).T @ abs(J)).toarray() > 0
+    pat = bd.normal_matrix_pattern(ji, pi, len(ext), len(P), fixed=control)
+    np.testing.assert_array_equal(pat, N)
+    # the point part is block diagonal (3×3 blocks)
+    Npp = pat[6 * len(ext):, 6 * len(ext):]
+    assert Npp.sum() == 9 * len(free)
+
+
+# -- bad input -------------------------------------------------------------------------------------
+
+def _args(block):
+    xy, ji, pi, ext, P, control, ext0, P0, _ = block
+    return [xy, ji, pi, ext0, P0, C], {"control": control}
+
+
+@pytest.mark.parametrize("change, error, text", [
+    (lambda a, k: a.__setitem__(0, a[0][:, :1]), ValueError, "xy has shape"),
+    (lambda a, k: a.__setitem__(1, a[1][:-1]), ValueError, "image_index has shape"),
+    (lambda a, k: a.__setitem__(2, a[2].astype(float)), ValueError, "must hold integers"),
+    (lambda a, k: a.__setitem__(3, a[3][:, :5]), ValueError, "exterior has shape"),
+    (lambda a, k: a.__setitem__(4, a[4][:, :2]), ValueError, "points has shape"),
+    (lambda a, k: a[0].__setitem__((3, 1), np.nan), ValueError, "xy contains a non-finite"),
+    (lambda a, k: a[4].__setitem__((2, 0), np.inf), ValueError, "points contains a non-finite"),
+    (lambda a, k: a[2].__setitem__(0, 10_000), ValueError, "point_index contains 10000"),
+    (lambda a, k: a.__setitem__(5, -50.0), ValueError, "c must be > 0"),
+    (lambda a, k: k.__setitem__("control", k["control"][:2]), bd.DatumError, "2 observed control"),
+    (lambda a, k: k.__setitem__("control", None), bd.DatumError, "0 observed control"),
+    (lambda a, k: k.__setitem__("datum", "fixed"), ValueError, "datum must be"),
+    (lambda a, k: k.__setitem__("calibrate", ("c", "k1")), ValueError, "calibrate"),
+    (lambda a, k: k.__setitem__("distortion", 1e-5), TypeError, "distortion must be"),
+])
+def test_bad_input_is_named(block, change, error, text):
+    args, kwargs = _args(block)
+    args = [np.array(a, copy=True) if isinstance(a, np.ndarray) else a for a in args]
+    kwargs = dict(kwargs)
+    change(args, kwargs)
+    with pytest.raises(error, match=text):
+        bd.bundle_adjustment(*args, **kwargs)
+
+
+def test_collinear_control_points_are_a_datum_error(block):
+    args, kwargs = _args(block)
+    P = args[4].copy()
+    line = [0, 1, 2]
+    P[line] = [[0, 0, 0], [10, 0, 0], [20, 0, 0]]
+    with pytest.raises(bd.DatumError, match="straight line"):
+        bd.bundle_adjustment(*args[:4], P, C, control=line)
+
+
+def test_image_with_too_few_points_and_point_seen_once(block):
+    xy, ji, pi, ext, P, control, ext0, P0, _ = block
+    rows2 = np.flatnonzero(ji == 2)
+    keep = np.setdiff1d(np.arange(len(ji)), rows2[2:])        # image 2 keeps two points
+    with pytest.raises(bd.DatumError, match="image 2 has"):
+        bd.bundle_adjustment(xy[keep], ji[keep], pi[keep], ext0, P0, C, control=control)
+    # a new point with a single ray
+    p = next(p for p in range(len(P)) if p not in control and np.sum(pi == p) >= 2)
+    drop = np.flatnonzero(pi == p)[1:]
+    keep = np.setdiff1d(np.arange(len(xy)), drop)
+    with pytest.raises(bd.DatumError, match=f"point {p} is observed in 1 image"):
+        bd.bundle_adjustment(xy[keep], ji[keep], pi[keep], ext0, P0, C, control=control)
+
+
+def test_duplicate_observation_and_no_convergence(block):
+    xy, ji, pi, ext, P, control, ext0, P0, _ = block
+    with pytest.raises(ValueError, match="observed twice"):
+        bd.bundle_adjustment(np.vstack([xy, xy[:1]]), np.r_[ji, ji[:1]], np.r_[pi, pi[:1]],
+                             ext0, P0, C, control=control)
+    with pytest.raises(pl.ConvergenceError, match="did not converge"):
+        bd.bundle_adjustment(xy, ji, pi, ext0, P0, C, control=control, max_iter=1)
+    last = bd.bundle_adjustment(xy, ji, pi, ext0, P0, C, control=control, max_iter=1, check=False)
+    assert not last.converged and last.iterations == 1
+
+
+def test_undetermined_self_calibration_is_a_datum_error():
+    """Nadir images at one height over a plane: c and the flying height trade off exactly."""
+    xy, ji, pi, ext, P = _block(noise=0.0, flat=True)
+    control = _corners(P)
+    bd.bundle_adjustment(xy, ji, pi, ext, P, C, control=control)        # fine without c
+    with pytest.raises(bd.DatumError, match="singular"):
+        bd.bundle_adjustment(xy, ji, pi, ext, P, C, control=control, calibrate=("c",))
+
+
+def test_critical_value_bad_input():
+    with pytest.raises(ValueError, match="alpha"):
+        bd.critical_value(1.5)
+    with pytest.raises(ValueError, match="τ test needs"):
+        bd.critical_value(0.01, "tau", 1)
+    with pytest.raises(ValueError, match="test must be"):
+        bd.critical_value(0.01, "chi2")
+    with pytest.raises(ValueError, match="dof must be"):
+        bd.student_t_cdf(1.0, 0)
