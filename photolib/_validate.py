@@ -47,6 +47,30 @@ def check_finite(arr: np.ndarray, name: str) -> None:
         raise ValueError(f"{name} contains a non-finite value {float(arr[where])!r} at index {where}")
 
 
+def as_array(value, name: str, *, positive: bool = False, nonnegative: bool = False,
+             finite: bool = True) -> np.ndarray:
+    """``value`` as a float array of any shape, checked; ``ValueError`` naming ``name`` otherwise.
+
+    NaN is always refused; ±inf too unless ``finite=False`` (e.g. an object at infinity).
+    ``positive`` asks for > 0, ``nonnegative`` for ≥ 0; the message quotes the first bad value.
+    """
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be numeric, got {value!r}") from None
+    if np.any(np.isnan(arr)):
+        raise ValueError(f"{name} must be finite, got NaN" if finite
+                         else f"{name} must not be NaN, got NaN")
+    if finite and not np.all(np.isfinite(arr)):
+        bad = float(arr[~np.isfinite(arr)].ravel()[0])
+        raise ValueError(f"{name} must be finite, got {bad!r}")
+    if positive and np.any(arr <= 0):
+        raise ValueError(f"{name} must be > 0, got {float(arr[arr <= 0].ravel()[0])!r}")
+    if nonnegative and np.any(arr < 0):
+        raise ValueError(f"{name} must be ≥ 0, got {float(arr[arr < 0].ravel()[0])!r}")
+    return arr
+
+
 def as_scalar(value, name: str, *, positive: bool = False) -> float:
     """A finite float; with ``positive`` it must be > 0."""
     try:
