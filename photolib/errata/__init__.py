@@ -23,7 +23,7 @@ __all__ = ["MODULES", "Evidence", "Record", "VersionSpec", "catalogue", "get"]
 
 #: catalogue modules, in the order of the sources
 MODULES = ("luhmann_ch2", "luhmann_ch3", "luhmann_ch4", "luhmann_dlt", "luhmann_ch5",
-           "de_summary", "de_summary_optics", "hu_wiki", "pl_notes")
+           "de_summary", "de_summary_optics", "de_summary_sensors", "hu_wiki", "pl_notes")
 
 _CATALOGUE: list | None = None
 
