@@ -108,7 +108,9 @@ def forward_intersection(xy, X0, R, c, x0=0.0, y0=0.0, *, min_angle: float = 1e-
         raise ValueError(f"c must be > 0 for every image, got {cs.tolist()}")
     x0s, y0s = _per_camera(x0, K, "x0"), _per_camera(y0, K, "y0")
     # unit ray directions d (K, N, 3)
-    d = np.stack([_image_vectors(obs[k], cs[k], x0s[k], y0s[k]) @ rots[k].T for k in range(K)])
+    # (N, 3) @ a transposed view drops NumPy to its slow non-BLAS loop: copy the 3 × 3 first
+    d = np.stack([_image_vectors(obs[k], cs[k], x0s[k], y0s[k]) @ np.ascontiguousarray(rots[k].T)
+                  for k in range(K)])
     d /= np.linalg.norm(d, axis=2, keepdims=True)
     P = np.eye(3) - d[..., :, None] * d[..., None, :]          # (K, N, 3, 3) projectors
     A = P.sum(axis=0)                                            # (N, 3, 3)
