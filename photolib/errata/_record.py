@@ -24,6 +24,8 @@ import sympy as sp
 from photolib.symcheck import equivalent
 
 VERDICT_PREFIXES = ("right", "wrong", "right-under-condition: ", "not-checkable: ")
+#: what a source can claim of a printed version; every :class:`VersionSpec` must state one
+CLAIMS = ("right", "wrong", "right-under-condition")
 
 
 @dataclass
@@ -58,7 +60,16 @@ class VersionSpec:
     ``expr`` is the transcription (SymPy, or a callable returning it); ``condition`` a
     substitution under which it equals the derivation, described by ``condition_text``;
     ``check`` replaces the formula comparison for examples and text; ``claim`` is what the
-    source says of the version (``right``/``wrong``).
+    source says of the version: ``right``/``wrong`` (the errata list's "richtig"/"alte
+    Fassung"; the other sources claim everything they print right), or
+    ``right-under-condition`` where the source itself adds the condition. It is required:
+    a spec without a claim raises ``ValueError``, so :meth:`Record.differs_from_source`
+    sees every version.
+
+    >>> VersionSpec("right")
+    Traceback (most recent call last):
+    ...
+    ValueError: missing or bad claim ''; must be one of ('right', 'wrong', 'right-under-condition')
     """
 
     verdict: str
@@ -74,6 +85,8 @@ class VersionSpec:
                    for p in VERDICT_PREFIXES):
             raise ValueError(f"bad verdict {self.verdict!r}; must start with one of "
                              f"{VERDICT_PREFIXES}")
+        if self.claim not in CLAIMS:
+            raise ValueError(f"missing or bad claim {self.claim!r}; must be one of {CLAIMS}")
 
 
 def _resolve(v):
@@ -178,11 +191,10 @@ class Record:
         return {name: spec.verdict for name, spec in self.specs.items()}
 
     def differs_from_source(self) -> dict:
-        """Versions whose verdict kind differs from the source's claim."""
+        """``{version: (claim, verdict)}`` of the versions whose verdict kind differs from the
+        source's claim (every version has a claim, see :class:`VersionSpec`)."""
         out = {}
         for name, spec in self.specs.items():
-            if not spec.claim:
-                continue
             kind = spec.verdict.split(":")[0]
             if kind != spec.claim:
                 out[name] = (spec.claim, spec.verdict)
@@ -194,8 +206,8 @@ def formula(id, source, item, specs, derivation, **kw) -> Record:
                   derivation=derivation, **kw)
 
 
-def figure(id, source, item, why, claim="") -> Record:
-    """A figure or text item that cannot be checked by computation."""
+def figure(id, source, item, why, *, claim) -> Record:
+    """A figure or text item that cannot be checked by computation (``claim`` required)."""
     return Record(id=id, source=source, item=item, kind="figure",
                   specs={"corrected": VersionSpec(f"not-checkable: {why}", claim=claim)},
                   note=why)

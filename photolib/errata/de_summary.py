@@ -57,13 +57,13 @@ def records():
         "de-summary:radial-components", SRC + ", 'Radialsymmetrische Verzeichnung'",
         "radial distortion resolved into x and y",
         {"printed": VersionSpec("right", expr=lambda: sp.Matrix(
-            [x * lens_distortion.dr / rr, y * lens_distortion.dr / rr]))},
+            [x * lens_distortion.dr / rr, y * lens_distortion.dr / rr]), claim="right")},
         derivation=lambda: sp.Matrix(lens_distortion.radial_components()),
         steps=("Δr' points along the radius: unit vector (x', y')/r'",)))
     out.append(formula(
         "de-summary:conrady", SRC + ", 'Modellierung der Verzeichnung'", "Conrady radial model",
         {"printed": VersionSpec("right", expr=lambda: dist.K0 * dist.rr + dist.K1 * dist.rr**3
-                                + dist.K2 * dist.rr**5 + dist.K3 * dist.rr**7)},
+                                + dist.K2 * dist.rr**5 + dist.K3 * dist.rr**7, claim="right")},
         derivation=lambda: dist.conrady_profile(),
         note="A model definition: equal to the course's Conrady form."))
     out.append(formula(
@@ -73,14 +73,14 @@ def records():
                                 condition_text="r0 = 0 (no balancing radius); 'r'3', 'r'7' "
                                                "read as powers",
                                 expr=lambda: dist.A1 * dist.rr**3 + dist.A2 * dist.rr**5
-                                + dist.A3 * dist.rr**7)},
+                                + dist.A3 * dist.rr**7, claim="right")},
         derivation=lambda: dist.radial_profile()))
     out.append(formula(
         "de-summary:tangential-distortion", SRC + ", 'Asymmetrie und Tangentiale Verzeichnung'",
         "tangential (decentring) distortion",
         {"printed": VersionSpec("wrong", expr=lambda: sp.Matrix(
             [dist.B1 * (rr**2 + 2 * rr * x**2) + 2 * dist.B2 * x * y,
-             dist.B2 * (rr**2 + 2 * y**2) + 2 * dist.B1 * x * y]))},
+             dist.B2 * (rr**2 + 2 * y**2) + 2 * dist.B1 * x * y]), claim="right")},
         derivation=lambda: sp.Matrix(lens_distortion.decentring_linearised()).subs(
             lens_distortion.tangential_parameters()),
         steps=("cubic radial distortion K|p − e|²(p − e) about a centre e off the principal "
@@ -91,7 +91,8 @@ def records():
     out.append(formula(
         "de-summary:affine-distortion", SRC + ", 'Affine Verzeichnung'", "affine distortion "
         "Δx' = C1x' + C2y', Δy' = 0",
-        {"printed": VersionSpec("right", expr=lambda: sp.Matrix([dist.C1 * x + dist.C2 * y, 0]))},
+        {"printed": VersionSpec("right", expr=lambda: sp.Matrix([dist.C1 * x + dist.C2 * y, 0]),
+                                claim="right")},
         derivation=lambda: sp.Matrix(dist.delta_affine())))
     out.append(Record(
         id="de-summary:affine-shear-practice", source=SRC + ", 'In der Praxis angewendet'",
@@ -99,7 +100,7 @@ def records():
         specs={"printed": VersionSpec(
             PRACTICE,
             expr=lambda: sp.Matrix([dist.C1 * x + dist.C2 * y, -dist.C1 * y + dist.C2 * x]),
-            check=lambda: _practice())},
+            check=lambda: _practice(), claim="right")},
         derivation=lambda: sp.Matrix(dist.delta_affine()),
         note="Δx = C1x' + C2y', Δy = −C1y' + C2x' is a different parametrisation: it differs "
              "from the course's (2C1x' + 2C2y', 0) by a similarity (scale and rotation)."))
@@ -111,7 +112,7 @@ def records():
             "turned by θ counter-clockwise; as an active rotation of the point it is R(−θ)",
             expr=lambda: sp.Matrix([x * sp.cos(th) + y * sp.sin(th),
                                     y * sp.cos(th) - x * sp.sin(th)]),
-            check=lambda: _rot2d())},
+            check=lambda: _rot2d(), claim="right")},
         derivation=lambda: rotation_2d(th) * sp.Matrix([x, y])))
     Rg = col.rotation_symbols()
 
@@ -123,7 +124,7 @@ def records():
                           col.y0 - col.c * sum(r[3 * i + 1] * d[i] for i in range(3)) / den])
     out.append(formula(
         "de-summary:collinearity", SRC + ", 'Kollinearitätsgleichungen'", "collinearity "
-        "equations", {"printed": VersionSpec("right", expr=_col)},
+        "equations", {"printed": VersionSpec("right", expr=_col, claim="right")},
         derivation=lambda: sp.Matrix(col.image_coordinates(Rg)),
         note="With r_ij the elements of R (image → object, X = X0 + m·R·x*), c > 0."))
     # normal case
@@ -140,7 +141,7 @@ def records():
         out.append(formula(f"de-summary:normal-case-{name}", SRC + ", 'Photogrammetrischer "
                            "Normalfall' / 'Höhenbestimmung aus einer Parallaxe'",
                            f"stereo normal case: {name}",
-                           {"printed": VersionSpec("right", expr=pr)}, derivation=dv,
+                           {"printed": VersionSpec("right", expr=pr, claim="right")}, derivation=dv,
                            note="R = I, camera 1 at the origin, camera 2 at (B, 0, 0); "
                                 "c > 0, points in front have Z < 0."))
     out.append(formula(
@@ -152,30 +153,31 @@ def records():
                                 condition=lambda: {**{s: (1 if s in (col.r[0], col.r[4],
                                                                       col.r[8]) else 0)
                                                       for s in col.r}, col.Y0: 0, col.Z0: 0},
-                                condition_text="ω = φ = κ = 0 (R = I) and Y0 = Z0 = 0")},
+                                condition_text="ω = φ = κ = 0 (R = I) and Y0 = Z0 = 0",
+                                claim="right")},
         derivation=lambda: col.image_coordinates(Rg)[0]))
     out.append(Record(
         id="de-summary:plane-transformation-counts", source=SRC + ", 'Ebene Entzerrung'",
         item="parameter counts: similarity 4, affine 6, polynomial (n+1)(n+2), bilinear 8, "
              "projective 8", kind="text",
-        specs={"printed": VersionSpec("right", check=_counts)}))
+        specs={"printed": VersionSpec("right", check=_counts, claim="right")}))
     out.append(Record(
         id="de-summary:stereo-acuity", source=SRC + ", 'Stereoskopisches Sehen'",
         item="acuity 5''–10'' ↔ 6–12 µm, monocular 30'' ↔ 40 µm at 25 cm", kind="example",
         specs={"printed": VersionSpec("right-under-condition: rounded; 30'' at 25 cm is "
-                                      "36.4 µm, printed 40 µm", check=_acuity)}))
+                                      "36.4 µm, printed 40 µm", check=_acuity, claim="right")}))
     out.append(Record(
         id="de-summary:bit-depth", source=SRC + ", 'Bildtiefe / Bittiefe'",
         item="n bits give 2^n grey values", kind="text",
         specs={"printed": VersionSpec("right", check=lambda: Evidence(
             "right" if all(adjustment.grey_levels(n) == 2**n for n in (1, 8, 12)) else "wrong",
-            "enumerated bit patterns for n = 1, 8, 12"))}))
+            "enumerated bit patterns for n = 1, 8, 12"), claim="right")}))
     out.append(Record(
         id="de-summary:reconstruction-count", source=SRC + ", '3D-Rekonstruktion'",
         item="two images give 4 observations for 3 unknowns", kind="text",
         specs={"printed": VersionSpec("right", check=lambda: Evidence(
             "right" if 2 * 2 - 3 == 1 and stereo.height_from_parallax() != 0 else "wrong",
-            "2 images × (x', y') = 4 equations, 3 coordinates: redundancy 1"))}))
+            "2 images × (x', y') = 4 equations, 3 coordinates: redundancy 1"), claim="right")}))
     return out
 
 

@@ -42,7 +42,8 @@ def records():
         id="de-summary:refraction-snell", source=SRC + ", 'Lichtbrechung'",
         item="n1·sin α = n2·sin β", kind="formula",
         specs={"printed": VersionSpec("right", check=_snell,
-                                      expr=lambda: o.n1 * sp.sin(alpha) - o.n2 * sp.sin(beta))},
+                                      expr=lambda: o.n1 * sp.sin(alpha) - o.n2 * sp.sin(beta),
+                                      claim="right")},
         steps=("travel time T(u) = (n1√(h1² + u²) + n2√(h2² + (d − u)²))/c0",
                "dT/du = 0 ⇔ n1 sin α = n2 sin β")))
     out.append(Record(
@@ -52,15 +53,15 @@ def records():
             "right-under-condition: index relative to air; the absolute index uses the "
             "vacuum speed (n_air ≈ 1.0003)", check=lambda: Evidence(
                 "right-under-condition: index relative to air; the absolute index uses the "
-                "vacuum speed (n_air ≈ 1.0003)", "a definition"))}))
+                "vacuum speed (n_air ≈ 1.0003)", "a definition"), claim="right")}))
     out.append(Record(
         id="de-summary:reflection", source=SRC + ", 'Reflektion'", item="α = β",
-        kind="formula", specs={"printed": VersionSpec("right", check=_reflection)}))
+        kind="formula", specs={"printed": VersionSpec("right", check=_reflection, claim="right")}))
     out.append(formula(
         "de-summary:imaging-equation", SRC + ", 'Abbildungsgleichung und -maßstab'",
         "thin-lens imaging equation 1/a + 1/a' = 1/f",
         {"printed": VersionSpec("not-checkable: the formula is only in a picture that is not "
-                                "available")},
+                                "available", claim="right")},
         derivation=o.imaging_equation_residual,
         steps=("centre ray y = −Hz/a and focal ray y = H(1 − z/f) meet at z = a' = af/(a − f)",
                "so 1/a + 1/a' = 1/f"),
@@ -69,12 +70,12 @@ def records():
         "de-summary:image-scale", SRC + ", 'Abbildungsgleichung und -maßstab'",
         "image scale M_b = 1 : m_b", {"printed": VersionSpec(
             "not-checkable: only the definition M_b = 1:m_b is printed; m_b = a/a' is in a "
-            "missing picture")}, derivation=o.image_scale_number))
+            "missing picture", claim="right")}, derivation=o.image_scale_number))
     out.append(formula(
         "de-summary:field-angle", SRC + ", 'Formatwinkel'", "tan Ω = s'/(2c)",
         {"printed": VersionSpec("right-under-condition: Ω is half the format angle (full "
                                 "angle 2Ω), s' the format extent",
-                                expr=lambda: o.s_fmt / (2 * o.c_cam))},
+                                expr=lambda: o.s_fmt / (2 * o.c_cam), claim="right")},
         derivation=o.half_field_angle_tan, note="Half of s' over c in the right triangle."))
     out[-1].specs["printed"].check = lambda: Evidence(
         "right-under-condition: Ω is half the format angle (full angle 2Ω), s' the format "
@@ -88,16 +89,16 @@ def records():
                 "right-under-condition: α is half the aperture angle, object at infinity "
                 "(image at f)" if sp.simplify(o.d_pupil / (2 * o.f)
                                               - o.half_aperture_angle_tan()) == 0 else "wrong",
-                "tan(half angle) = (d'/2)/f"))}))
+                "tan(half angle) = (d'/2)/f"), claim="right")}))
     out.append(Record(
         id="de-summary:f-number", source=SRC + ", 'Lichtstärke'", item="relative aperture "
         "d/f and f-number k = f/d", kind="text",
-        specs={"printed": VersionSpec("right", check=_kd)}))
+        specs={"printed": VersionSpec("right", check=_kd, claim="right")}))
     out.append(formula(
         "de-summary:depth-of-field-u", SRC + ", 'Schärfentiefe'",
         "u' = (a_h − a_v)/(a_h + a_v)·f²/(k(a − f))",
         {"printed": VersionSpec("right", expr=lambda: (o.a_h - o.a_v) / (o.a_h + o.a_v)
-                                * o.f**2 / (o.k * (o.a - o.f)))},
+                                * o.f**2 / (o.k * (o.a - o.f)), claim="right")},
         derivation=lambda: o.up,
         given=lambda: dict(zip((o.a_v, o.a_h), o.dof_limits())),
         domain=lambda: {o.a: (2.0, 5.0), o.f: (0.05, 0.1), o.k: (2.0, 8.0), o.up: (1e-5, 3e-5)},
@@ -109,7 +110,7 @@ def records():
         "de-summary:depth-of-field-t", SRC + ", 'Schärfentiefe'",
         "t = a_h − a_v = 2u'k(1 + m_b)/(m_b² − (u'k/f)²)",
         {"printed": VersionSpec("wrong", expr=lambda: 2 * o.up * o.k * (1 + o.m_b)
-                                / (o.m_b**2 - (o.up * o.k / o.f) ** 2))},
+                                / (o.m_b**2 - (o.up * o.k / o.f) ** 2), claim="right")},
         derivation=o.dof_depth_in_scale_number,
         domain=lambda: {o.m_b: (20.0, 80.0), o.f: (0.05, 0.1), o.k: (2.0, 8.0),
                         o.up: (1e-5, 3e-5)},
@@ -129,12 +130,12 @@ def records():
                                     "vignetting comes on top" if sp.simplify(
                                         o.relative_irradiance() - sp.cos(o.tau) ** 4) == 0
                                     else "wrong", "cos² (distance) · cos (aperture) · cos "
-                                    "(incidence) = cos⁴"))},
+                                    "(incidence) = cos⁴"), claim="right")},
         derivation=o.relative_irradiance))
     out.append(formula(
         "de-summary:image-radius", SRC + ", 'Reale Optische Abbildung'", "r' = c·tan τ + Δr'",
         {"printed": VersionSpec("right", expr=lambda: o.c_cam * sp.tan(o.tau)
-                                + sp.Symbol("Delta_r", real=True))},
+                                + sp.Symbol("Delta_r", real=True), claim="right")},
         derivation=lambda: o.c_cam * sp.tan(o.tau) + sp.Symbol("Delta_r", real=True),
         note="Ideal radius c·tan τ (pinhole at O', τ = τ'), Δr' = distorted − ideal: a "
              "definition consistent with the course's sign."))

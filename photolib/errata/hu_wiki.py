@@ -47,11 +47,11 @@ def records():
                                 expr=_collinearity_printed, condition={col.x0: 0, col.y0: 0},
                                 condition_text="ξ, η reduced to the principal point "
                                                "(x'0 = y'0 = 0); r_ij elements of R (image → "
-                                               "object)")},
+                                               "object)", claim="right")},
         derivation=lambda: sp.Matrix(col.image_coordinates(col.rotation_symbols()))))
     out.append(formula(
         "hu-wiki:rotation-matrix", SRC, "rotation matrix R_ωφκ",
-        {"printed": VersionSpec("wrong", expr=printed_matrix)},
+        {"printed": VersionSpec("wrong", expr=printed_matrix, claim="right")},
         derivation=wolf_m,
         steps=("R = R_ω·R_φ·R_κ from the matrix exponentials of the axis generators",
                "the printed matrix is laid out as Wolf's M = Rᵀ (object → image)",
@@ -61,7 +61,8 @@ def records():
     out.append(formula(
         "hu-wiki:collinearity-with-printed-matrix", SRC, "the article's collinearity equation "
         "evaluated with the article's own matrix",
-        {"printed": VersionSpec("wrong", expr=lambda: _collinearity_printed(printed_matrix()))},
+        {"printed": VersionSpec("wrong", expr=lambda: _collinearity_printed(printed_matrix()),
+                                claim="right")},
         derivation=lambda: sp.Matrix(col.image_coordinates(rotation_opk())).subs(
             {col.x0: 0, col.y0: 0}),
         note="The equation uses r11, r21, r31 (columns of R) but the matrix is laid out as "

@@ -170,7 +170,8 @@ def records():
     r.append(Record_t())
     r.append(figure("luhmann:p48-T11", SRC + ", p. 48, text", "rotation matrix inserted into "
                     "T11 instead of T12",
-                    "the matrices T11, T12 of p. 48 are not printed in the errata list"))
+                    "the matrices T11, T12 of p. 48 are not printed in the errata list",
+                    claim="right"))
     return r
 
 

@@ -106,11 +106,12 @@ def records():
              "positions, which are not printed: not recomputable. The text's '3-4 iterations' "
              "refers to Abb. 3.67a (a figure). Only the consistency of text and table is checked."))
     r.append(figure("luhmann:fig-3.45", SRC + ", p. 142, Abb. 3.45", "principal point versus "
-                    "piercing point of the optical axis", "figure only"))
+                    "piercing point of the optical axis", "figure only", claim="right"))
     r.append(figure("luhmann:fig-3.52", SRC + ", p. 148, Abb. 3.52", "label Δr'",
-                    "figure label only"))
+                    "figure label only", claim="right"))
     r.append(figure("luhmann:fig-3.67b", SRC + ", p. 163, Abb. 3.67b", "curve of iterative "
-                    "correction", "figure only; the curve is not in the errata text"))
+                    "correction", "figure only; the curve is not in the errata text",
+                    claim="right"))
     r.append(figure("luhmann:fig-3.74-3.75", SRC + ", p. 170, Abb. 3.74/3.75",
-                    "frame-transfer sensor drawings", "figure only"))
+                    "frame-transfer sensor drawings", "figure only", claim="right"))
     return r

@@ -173,7 +173,7 @@ def records():
         note="110 − 20 = 112 − 22 = 90: the correction is self-consistent but so was the "
              "old print."))
     r.append(figure("luhmann:fig-4.11", SRC + ", p. 255, Abb. 4.11", "vector X0 in the "
-                    "drawing", "figure only"))
+                    "drawing", "figure only", claim="right"))
     r.append(figure("luhmann:fig-4.14", SRC + ", p. 260, Abb. 4.14", "b1 = −250 versus 250",
-                    "the data of the figure are not printed"))
+                    "the data of the figure are not printed", claim="right"))
     return r

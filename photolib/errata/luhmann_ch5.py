@@ -121,7 +121,7 @@ def records():
              "the symbol the derivation uses: right by definition. The old g_x = ∂g⁰/∂x (by the "
              "template coordinates) equals it only for an unsheared, unscaled patch."))
     rr.append(figure("luhmann:p425-figure-ref", SRC + ", p. 425", "reference Abb. 5.4 → "
-                     "Abb. 5.51", "a figure reference"))
+                     "Abb. 5.51", "a figure reference", claim="right"))
     rr.append(figure("luhmann:fig-8.67b", SRC + ", p. 611, Abb. 8.67b", "copyright note",
-                     "not mathematics"))
+                     "not mathematics", claim="right"))
     return rr

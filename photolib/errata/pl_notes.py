@@ -63,7 +63,7 @@ def records():
     out = []
     out.append(formula(
         "pl-notes:helmert", SRC + ", 'transformacja Hellmerta'", "4-parameter similarity "
-        "(Helmert)", {"printed": VersionSpec("right", expr=_helmert_printed)},
+        "(Helmert)", {"printed": VersionSpec("right", expr=_helmert_printed, claim="right")},
         derivation=lambda: plane.helmert(),
         given=lambda: {a1: plane.s_scale * sp.cos(plane.theta),
                        b1: -plane.s_scale * sp.sin(plane.theta)},
@@ -73,7 +73,8 @@ def records():
     out.append(Record(
         id="pl-notes:bilinear", source=SRC + ", 'Transformację bilinearną'",
         item="bilinear transformation", kind="formula",
-        specs={"printed": VersionSpec("wrong", expr=_bilinear_printed, check=_bilinear_evidence)},
+        specs={"printed": VersionSpec("wrong", expr=_bilinear_printed, check=_bilinear_evidence,
+                                      claim="right")},
         derivation=plane.bilinear_from_corners,
         steps=("linear interpolation of four corners: a0 + a1 s + a2 t + a3 s t per coordinate",
                "eight independent coefficients (Jacobian rank 8)"),
@@ -86,18 +87,18 @@ def records():
                                 condition=lambda: {A[i]: H[i // 3, i % 3] / H[2, 2]
                                                    for i in range(8)},
                                 condition_text="homography normalised by h33 ≠ 0 "
-                                               "(A_ij = h_ij/h33)")},
+                                               "(A_ij = h_ij/h33)", claim="right")},
         derivation=lambda: plane.homography_normalised(H).subs({plane.x: xs, plane.y: ys})))
     out.append(Record(
         id="pl-notes:affine", source=SRC + ", 'Transformację afiniczną'",
         item="affine transformation", kind="text",
         specs={"printed": VersionSpec("not-checkable: the formula is cut off after "
-                                      "'x = a1 + a2xs + a3y...'")},
+                                      "'x = a1 + a2xs + a3y...'", claim="right")},
         note="The claim that parallel lines stay parallel follows from the linear part."))
     out.append(Record(
         id="pl-notes:bundle-unknowns", source=SRC + ", 'METODA WIĄZEK'",
         item="unknowns = 6·images + 3·points", kind="text",
         specs={"printed": VersionSpec("right-under-condition: interior orientation fixed (as "
                                       "the notes say); every point with three unknown "
-                                      "coordinates", check=_bundle)}))
+                                      "coordinates", check=_bundle, claim="right")}))
     return out

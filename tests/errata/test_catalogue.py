@@ -1,6 +1,7 @@
 """Every verdict of the errata catalogue, re-evaluated from its evidence."""
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -8,9 +9,11 @@ import sympy as sp
 
 from photolib import errata
 from photolib.errata import luhmann_dlt
+from photolib.errata._record import CLAIMS, VersionSpec, figure
 
 CAT = errata.catalogue()
 PAIRS = [(r.id, name) for r in CAT for name in r.specs]
+DOCS = Path(__file__).resolve().parents[2] / "docs" / "errata.md"
 
 
 def test_catalogue_size_and_ids():
@@ -182,3 +185,58 @@ def test_differs_from_source_listed():
     diffs = {r.id: r.differs_from_source() for r in CAT if r.differs_from_source()}
     assert "luhmann:5.50-p1" in diffs and "luhmann:example-4.3" in diffs
     assert "luhmann:2.21" in diffs
+
+
+# ---- claims of the sources and the table of docs/errata.md ---------------------------------
+
+
+def test_every_version_has_a_claim():
+    for r in CAT:
+        for name, spec in r.specs.items():
+            assert spec.claim in CLAIMS, (r.id, name, spec.claim)
+            if r.id.startswith(("de-summary:", "hu-wiki:", "pl-notes:")):
+                assert spec.claim == "right", (r.id, name)      # they claim what they print
+            elif name == "old":
+                assert spec.claim == "wrong", (r.id, name)      # "alte Fassung"
+            elif name == "corrected":
+                assert spec.claim == "right", (r.id, name)      # "richtig"
+
+
+def test_missing_claim_is_an_error_at_construction():
+    with pytest.raises(ValueError, match="claim"):
+        VersionSpec("right")
+    with pytest.raises(ValueError, match="claim"):
+        VersionSpec("wrong", claim="richtig")
+    with pytest.raises(TypeError):
+        figure("x:fig", "src", "item", "figure only")          # the claim is keyword-only
+    assert VersionSpec("wrong", claim="right").claim == "right"
+
+
+def _docs_table():
+    """``{(record id, version): (claim, verdict, reason)}`` from docs/errata.md."""
+    rows = {}
+    for line in DOCS.read_text(encoding="utf-8").splitlines():
+        if not line.startswith("| `"):
+            continue
+        cells = [c.strip() for c in line.strip().strip("|").split(" | ")]
+        assert len(cells) == 5, line
+        rid, version, claim, verdict, reason = cells
+        key = (rid.strip("`"), version)
+        assert key not in rows, f"row listed twice: {key}"
+        rows[key] = (claim, verdict, reason)
+    return rows
+
+
+def test_docs_table_is_exactly_differs_from_source():
+    """The table of docs/errata.md lists every (record, version) whose verdict differs from the
+    source's claim, and nothing else, with the claim and the full verdict string (the stated
+    verdict, which ``test_verdict_recomputed_equals_stated`` ties to what the CLI prints)."""
+    table = _docs_table()
+    expected = {(r.id, name): cv for r in CAT for name, cv in r.differs_from_source().items()}
+    assert sorted(set(expected) - set(table)) == [], "missing from docs/errata.md"
+    assert sorted(set(table) - set(expected)) == [], "in docs/errata.md but not differing"
+    for key, (claim, verdict) in expected.items():
+        assert table[key][:2] == (claim, verdict), key
+        assert table[key][2], f"no reason for {key}"
+    # same order as the catalogue, so the page reads source by source
+    assert list(table) == list(expected)

@@ -7,7 +7,6 @@ SciPy, and plain arithmetic for the Hungarian accuracy figures.
 """
 
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,7 +21,6 @@ NEW_IDS = ("de-summary:pixel-resolution", "de-summary:gain", "de-summary:full-we
            "de-summary:quantisation", "de-summary:diffraction-airy",
            "hu-wiki:accuracy-analogue", "hu-wiki:accuracy-analytical",
            "hu-wiki:digital-accuracy", "hu-wiki:history")
-DOCS = Path(__file__).resolve().parents[2] / "docs" / "errata.md"
 
 
 def kind(rid):
@@ -36,13 +34,6 @@ def test_new_records_registered_cited_and_claimed(rid):
     assert "line" in rec.source
     assert rec.specs["printed"].claim == "right"
     assert rec.verdicts == rec.stated
-
-
-def test_docs_table_lists_every_new_disagreement():
-    text = DOCS.read_text(encoding="utf-8")
-    for rid in NEW_IDS:
-        listed = f"| `{rid}` |" in text
-        assert listed == bool(errata.get(rid).differs_from_source()), rid
 
 
 # -- pixel resolution: ray casting of the four pixel corners -------------------------------------
