@@ -12,6 +12,8 @@ from photolib.nb import projection as npj
 from photolib.nb import rotations as nr
 from photolib.nb.draw import frustum_segments, lines_xyz
 
+from .explorer_checks import assert_explorer_widget, moves
+
 
 def test_environment_is_complete():
     assert nb.check_environment() == []
@@ -53,23 +55,17 @@ def test_order_report_detects_order_dependence():
     np.testing.assert_allclose(rep["R_pok"], pl.rotation_pok(*np.radians([30, 40, 20])))
 
 
-def _moves(explorer, name, value):
-    before_png, before_html = explorer.live.png, explorer.html.value
-    explorer.controls[name].value = value
-    return explorer.live.png != before_png, explorer.html.value != before_html
-
-
 def test_rotation_explorer_updates_figure_and_text():
     e = nr.RotationExplorer()
     assert e.live.output.outputs[0]["data"]["image/png"]
-    assert _moves(e, "phi", 90.0) == (True, True)
+    assert moves(e, "phi", 90.0) == (True, True)
     assert e.report["gimbal"] and "Gimbal lock" in e.html.value
-    assert repr(e.widget) == "[widget: ω-φ-κ rotation explorer]"
+    assert_explorer_widget(e, "ω-φ-κ rotation explorer")
 
 
 def test_order_explorer_updates():
     e = nr.OrderExplorer()
-    assert _moves(e, "kappa", 40.0) == (True, True)
+    assert moves(e, "kappa", 40.0) == (True, True)
 
 
 def test_explorer_set_redraws_once_with_all_values():
@@ -114,9 +110,9 @@ def test_iteration_report_newton_faster_fixed_point_diverges():
 
 def test_distortion_explorers_update():
     e = nd.DistortionExplorer()
-    assert _moves(e, "B1", 5.0) == (True, True)
+    assert moves(e, "B1", 5.0) == (True, True)
     i = nd.IterationExplorer()
-    assert _moves(i, "A1", -60.0) == (True, True)
+    assert moves(i, "A1", -60.0) == (True, True)
 
 
 # -- chapter 06 ------------------------------------------------------------------------------
@@ -146,9 +142,9 @@ def test_footprint_report_nadir_and_horizon():
 
 def test_projection_explorers_update():
     e = npj.ProjectionExplorer()
-    assert _moves(e, "kappa", 20.0) == (True, True)
+    assert moves(e, "kappa", 20.0) == (True, True)
     f = npj.FootprintExplorer()
-    assert _moves(f, "phi", 20.0) == (True, True)
+    assert moves(f, "phi", 20.0) == (True, True)
 
 
 def test_frustum_apex_and_direction():

@@ -8,7 +8,6 @@ images (true radius, centre, affinity), not from the library under test.
 from __future__ import annotations
 
 import math
-import time
 
 import cv2
 import matplotlib
@@ -18,21 +17,12 @@ from scipy import ndimage, stats
 
 matplotlib.use("Agg")
 
-import matplotlib.pyplot as plt  # noqa: E402
-
 from photolib.nb import measurement as nm  # noqa: E402
 
-
-@pytest.fixture(autouse=True)
-def _close_figures():
-    yield
-    plt.close("all")
+from .explorer_checks import assert_explorer_widget, fastest_update, moves  # noqa: E402
 
 
-def _moves(explorer, name, value):
-    before_png, before_html = explorer.live.png, explorer.html.value
-    explorer.controls[name].value = value
-    return explorer.live.png != before_png, explorer.html.value != before_html
+pytestmark = pytest.mark.usefixtures("close_figures")
 
 
 def test_target_image_is_bright_disc_of_known_centre():
@@ -115,16 +105,11 @@ def test_plot_log_profile_zero_at_sqrt2_sigma():
 ])
 def test_explorers_redraw_fast(cls, name, a, b):
     ex = cls()
-    assert "photolib-explorer" in ex.widget._dom_classes
-    assert repr(ex.widget) == f"[widget: {ex.title}]"
+    assert_explorer_widget(ex, ex.title)
     ex.controls[name].value = a
-    assert _moves(ex, name, b) == (True, True)
-    times = []
-    for v in np.linspace(a, b, 6):
-        t0 = time.perf_counter()
-        ex.controls[name].value = float(v)
-        times.append(time.perf_counter() - t0)
-    assert min(times) < 0.05  # the budget of an update (min: robust to a busy machine)
+    assert moves(ex, name, b) == (True, True)
+    # the budget of an update (the fastest: robust to a busy machine)
+    assert fastest_update(ex, name, [float(v) for v in np.linspace(a, b, 6)]) < 0.05
 
 
 def test_explorer_reports_match_the_functions():

@@ -8,7 +8,6 @@ under test.
 from __future__ import annotations
 
 import math
-import time
 
 import cv2
 import matplotlib
@@ -18,24 +17,15 @@ import sympy as sp
 
 matplotlib.use("Agg")
 
-import matplotlib.pyplot as plt  # noqa: E402
-
 import photolib as pl  # noqa: E402
 from photolib.derive import products as dp  # noqa: E402
 from photolib.nb import products as npr  # noqa: E402
 from photolib.rectify import output_grid  # noqa: E402
 
-
-@pytest.fixture(autouse=True)
-def _close_figures():
-    yield
-    plt.close("all")
+from .explorer_checks import assert_explorer_widget, assert_update_is_fast, moves  # noqa: E402
 
 
-def _moves(explorer, name, value):
-    before_png, before_html = explorer.live.png, explorer.html.value
-    explorer.controls[name].value = value
-    return explorer.live.png != before_png, explorer.html.value != before_html
+pytestmark = pytest.mark.usefixtures("close_figures")
 
 
 @pytest.mark.parametrize("h, H, R", [(30.0, 300.0, 120.0), (80.0, 500.0, 10.0), (1.0, 1000.0, 250.0)])
@@ -146,32 +136,31 @@ def test_scene_products_have_their_shapes():
 def test_relief_explorer_updates_figure_and_text():
     e = npr.ReliefExplorer()
     assert e.live.output.outputs[0]["data"]["image/png"]
-    assert _moves(e, "h", 60.0) == (True, True)
+    assert moves(e, "h", 60.0) == (True, True)
     assert math.isclose(e.report["dr"], e.report["r_top"] * 60.0 / 300.0, rel_tol=1e-9)
-    assert _moves(e, "H", 600.0) == (True, True)
-    assert repr(e.widget) == "[widget: relief displacement explorer]"
-    assert "photolib-explorer" in e.widget._dom_classes
+    assert moves(e, "H", 600.0) == (True, True)
+    assert_explorer_widget(e, "relief displacement explorer")
 
 
 def test_ortho_error_explorer_updates():
     e = npr.OrthoErrorExplorer()
-    assert _moves(e, "amplitude", 2.5) == (True, True)
+    assert moves(e, "amplitude", 2.5) == (True, True)
     before = e.report["plane_err"]
-    assert _moves(e, "phi", 10.0)[1]
+    assert moves(e, "phi", 10.0)[1]
     np.testing.assert_allclose(e.report["plane_err"], before, atol=1e-6)  # tilt: no change
     seg = e._plane.get_xydata()
     np.testing.assert_allclose(seg[1::3] - seg[0::3], e.scale * e.report["plane_err"])
-    assert repr(e.widget) == "[widget: orthophoto explorer]"
+    assert_explorer_widget(e, "orthophoto explorer")
 
 
 def test_true_ortho_explorer_updates():
     e = npr.TrueOrthoExplorer()
     area = e.report["area"]
-    assert _moves(e, "height", 40.0) == (True, True)
+    assert moves(e, "height", 40.0) == (True, True)
     assert e.report["area"] > area
-    assert _moves(e, "offset", 5.0) == (True, True)
+    assert moves(e, "offset", 5.0) == (True, True)
     np.testing.assert_array_equal(e._im.get_array(), e.report["classes"])
-    assert repr(e.widget) == "[widget: true orthophoto explorer]"
+    assert_explorer_widget(e, "true orthophoto explorer")
 
 
 @pytest.mark.parametrize("cls, name, values", [
@@ -180,13 +169,7 @@ def test_true_ortho_explorer_updates():
     (npr.TrueOrthoExplorer, "height", (10.0, 40.0)),
 ])
 def test_one_update_is_fast(cls, name, values):
-    e = cls()
-    best = float("inf")
-    for value in values * 5:
-        t = time.perf_counter()
-        e.controls[name].value = value
-        best = min(best, time.perf_counter() - t)
-    assert best < 0.25        # target 50 ms (benchmarks/bench_widgets.py); catches a full redraw
+    assert_update_is_fast(cls, name, values)
 
 
 def test_static_figures_have_their_artists():

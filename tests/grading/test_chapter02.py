@@ -10,30 +10,21 @@ finding on the light cone, SciPy's Bessel zeros, Fermat's principle minimised wi
 from __future__ import annotations
 
 import math
-import pickle
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 import sympy as sp
 from scipy import optimize, special
 
-from photolib.grading.encode import decode_value, encode_value
 from photolib.grading.exercises import ch02_optics as ch02
-from photolib.grading.exercises import chapter
-from photolib.grading.judge import judge
 from photolib.grading.notebook import parameters_for
 
-from .conftest import ROOT
+from .chapter_checks import BatchGradedChecks, ChapterChecks
+from .chapter_checks import judge_as_grader as _judge
 
 EXERCISES = ch02.EXERCISES
 BY_ID = {ex.id: ex for ex in EXERCISES}
 STUDENTS = ("s1000001", "s1000002", "s1000003", "s2345678", "s3000004", "s3000005")
-
-
-def _judge(ex, sid, value):
-    return judge(ex, parameters_for(ex, sid), decode_value(encode_value(value)))
 
 
 def _sid_with(ex, **wanted):
@@ -43,52 +34,15 @@ def _sid_with(ex, **wanted):
 
 # -- the same checks as for the other chapters ---------------------------------------------------
 
-def test_module_is_the_registered_chapter():
-    assert ch02.CHAPTER == "02-optics"
-    assert chapter("02-optics") == EXERCISES
-    assert len(EXERCISES) >= 4
-    assert {"number", "array", "expression", "choice"} <= {ex.kind for ex in EXERCISES}
-
-
-@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
-@pytest.mark.parametrize("sid", STUDENTS[:3])
-def test_reference_is_accepted(ex, sid):
-    verdict = _judge(ex, sid, ex.reference(parameters_for(ex, sid)))
-    assert verdict.status == "correct", verdict.message
-    assert verdict.points == ex.points
-
-
-@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
-def test_each_mistake_is_recognised_with_its_hint(ex):
-    assert ex.mistakes, f"{ex.id} declares no mistakes"
-    for index, mistake in enumerate(ex.mistakes):
-        applied = 0
-        for sid in STUDENTS + tuple(f"s{i}" for i in range(40)):
-            wrong = mistake.wrong(parameters_for(ex, sid))
-            if wrong is None:
-                continue
-            applied += 1
-            verdict = _judge(ex, sid, wrong)
-            assert verdict.status == "wrong", (ex.id, index, sid)
-            assert verdict.mistake == mistake.tag, (ex.id, index, sid, verdict.message)
-            assert verdict.message == f"not correct: {mistake.message}", (ex.id, index, sid)
-            if applied >= 4:
-                break
-        assert applied, f"{ex.id}: mistake {index} ({mistake.tag}) never applies"
-
-
-@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
-def test_students_get_different_variants(ex):
-    a, b, c = (parameters_for(ex, sid) for sid in STUDENTS[:3])
-    assert a != b or a != c
-    assert parameters_for(ex, STUDENTS[0]) == a
-    statements = {ex.statement.format(**p) for p in (a, b, c)}
-    assert len(statements) >= 2
-
-
-@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
-def test_untouched_answer_is_not_answered(ex):
-    assert _judge(ex, STUDENTS[0], ...).status == "not-answered"
+class TestChapter02(ChapterChecks, BatchGradedChecks):
+    module = ch02
+    chapter_name = "02-optics"
+    kinds = {"number", "array", "expression", "choice"}
+    students = STUDENTS
+    reference_students = 3
+    mistake_students = STUDENTS + tuple(f"s{i}" for i in range(40))
+    mistake_limit = 4
+    variant_students = 3
 
 
 def test_the_printed_wrong_t_formula_gets_the_erratum_hint():
@@ -101,35 +55,6 @@ def test_the_printed_wrong_t_formula_gets_the_erratum_hint():
     verdict = _judge(ex, STUDENTS[0], np.array([ref[0], ref[1], t_printed * 1e-3]))
     assert verdict.status == "wrong" and verdict.mistake == "erratum"
     assert "de-summary:depth-of-field-t" in verdict.message
-
-
-_GRADE = """
-import pickle, sys
-from photolib.grading.batch import grade_batch
-from photolib.grading.sandbox import Limits
-results = grade_batch(sys.argv[2:], Limits(timeout=60), jobs=1)
-with open(sys.argv[1], "wb") as f:
-    pickle.dump({r.submission: r for r in results}, f)
-"""
-
-
-def test_master_gets_full_marks_and_the_untouched_copy_zero(tmp_path):
-    master = ROOT / "solutions" / "02-optics.ipynb"
-    copy = ROOT / "exercises" / "02-optics.ipynb"
-    out = tmp_path / "graded.pickle"
-    # the grader runs in a process of its own, as an instructor runs it
-    proc = subprocess.run([sys.executable, "-c", _GRADE, str(out), str(master), str(copy)],
-                          capture_output=True, text=True, timeout=300)
-    assert proc.returncode == 0, proc.stderr[-3000:]
-    with open(out, "rb") as f:
-        graded = pickle.load(f)
-    r = graded[str(master)]
-    assert r.status == "ok", r.detail
-    assert r.total == r.max_total == sum(ex.points for ex in EXERCISES)
-    r = graded[str(copy)]
-    assert r.status == "no-student-id" and r.total == 0 and r.max_total > 0
-    assert {j.status for j in r.judgements} == {"not-answered"}
-    assert r.output.count("not answered yet") == len(EXERCISES)
 
 
 # -- the references by an independent route ------------------------------------------------------

@@ -19,25 +19,17 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from photolib.grading.encode import decode_value, encode_value
 from photolib.grading.exercises import ch08_resection_dlt as ch08
-from photolib.grading.exercises import chapter
-from photolib.grading.judge import judge
-from photolib.grading.notebook import function_outputs, parameters_for, reference_outputs
+from photolib.grading.notebook import parameters_for
 from photolib.grading.spec import Params
 from photolib.grading.variants import rng_for
+
+from .chapter_checks import ChapterChecks
+from .chapter_checks import judge_as_grader as _judge
 
 EXERCISES = ch08.EXERCISES
 BY_ID = {ex.id: ex for ex in EXERCISES}
 STUDENTS = ("s1000001", "s1000002", "s1000003", "s2345678")
-
-
-def _judge(ex, sid, value):
-    params = parameters_for(ex, sid)
-    if ex.kind == "function":
-        cases = ex.cases(rng_for(sid, ex.id, "hidden"), params)
-        return judge(ex, params, function_outputs(value, cases), reference_outputs(cases))
-    return judge(ex, params, decode_value(encode_value(value)))
 
 
 def _opencv_project(X, p):
@@ -68,65 +60,11 @@ def _points_in_front(p, n=8, seed=0):
 
 # -- the same checks as for chapters 04-06 --------------------------------------------------------
 
-def test_module_is_the_registered_chapter():
-    assert ch08.CHAPTER == "08-resection-dlt"
-    assert chapter("08-resection-dlt") == EXERCISES
-    assert len(EXERCISES) >= 4
-    assert {"number", "array", "expression", "function"} <= {ex.kind for ex in EXERCISES}
-
-
-@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
-@pytest.mark.parametrize("sid", STUDENTS[:2])
-def test_reference_is_accepted(ex, sid):
-    verdict = _judge(ex, sid, ex.reference(parameters_for(ex, sid)))
-    assert verdict.status == "correct", verdict.message
-    assert verdict.points == ex.points
-
-
-@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
-def test_each_mistake_is_recognised_with_its_hint(ex):
-    assert ex.mistakes, f"{ex.id} declares no mistakes"
-    for index, mistake in enumerate(ex.mistakes):
-        applied = 0
-        for sid in STUDENTS:
-            wrong = mistake.wrong(parameters_for(ex, sid))
-            if wrong is None:
-                continue
-            applied += 1
-            verdict = _judge(ex, sid, wrong)
-            assert verdict.status == "wrong", (ex.id, index, sid)
-            assert verdict.mistake == mistake.tag, (ex.id, index, sid, verdict.message)
-            assert verdict.message == f"not correct: {mistake.message}", (ex.id, index, sid)
-        assert applied, f"{ex.id}: mistake {index} ({mistake.tag}) never applies"
-
-
-@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
-def test_students_get_different_variants(ex):
-    a, b = (parameters_for(ex, sid) for sid in STUDENTS[:2])
-    assert a != b
-    assert parameters_for(ex, STUDENTS[0]) == a
-    assert ex.statement.format(**a) != ex.statement.format(**b)
-
-
-@pytest.mark.parametrize("ex", [ex for ex in EXERCISES if ex.kind == "function"],
-                         ids=lambda ex: ex.id)
-def test_hidden_inputs_differ_from_the_public_ones(ex):
-    params = parameters_for(ex, STUDENTS[0])
-    public = ex.cases(rng_for(STUDENTS[0], ex.id, "public"), params)
-    hidden = ex.cases(rng_for(STUDENTS[0], ex.id, "hidden"), params)
-    assert len(public) == len(hidden) >= 3
-    assert not all(np.array_equal(np.asarray(a[0]), np.asarray(b[0]))
-                   for a, b in zip(public, hidden))
-    for purpose in ("public", "hidden"):
-        for case in ex.cases(rng_for(STUDENTS[0], ex.id, purpose), params):
-            assert all(np.ndim(arg) == 0 for arg in case)
-            assert [float(a) for a in case] == list(case)
-
-
-@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
-def test_untouched_answer_is_not_answered(ex):
-    value = (lambda *args: ...) if ex.kind == "function" else ...
-    assert _judge(ex, STUDENTS[0], value).status == "not-answered"
+class TestChapter08(ChapterChecks):
+    module = ch08
+    chapter_name = "08-resection-dlt"
+    kinds = {"number", "array", "expression", "function"}
+    students = STUDENTS
 
 
 def test_a_slightly_wrong_function_is_wrong_without_a_hint():

@@ -13,12 +13,12 @@ import pytest
 import sympy as sp
 
 from photolib.derive import stereo as ds
-from photolib.grading.encode import decode_value, encode_value
 from photolib.grading.exercises import ch09_stereo as ch09
-from photolib.grading.exercises import chapter
-from photolib.grading.judge import judge
-from photolib.grading.notebook import function_outputs, parameters_for, reference_outputs
+from photolib.grading.notebook import parameters_for
 from photolib.grading.variants import rng_for
+
+from .chapter_checks import ChapterChecks
+from .chapter_checks import judge_as_grader as _judge
 
 cv2 = pytest.importorskip("cv2")
 
@@ -29,68 +29,20 @@ STUDENTS = ("s1000001", "s1000002", "s1000003", "s2345678", "s3000003", "s300000
 D = np.diag([1.0, -1.0, -1.0])
 
 
-def _judge(ex, sid, value):
-    params = parameters_for(ex, sid)
-    if ex.kind == "function":
-        cases = ex.cases(rng_for(sid, ex.id, "hidden"), params)
-        return judge(ex, params, function_outputs(value, cases), reference_outputs(cases))
-    return judge(ex, params, decode_value(encode_value(value)))
+class TestChapter09(ChapterChecks):
+    module = ch09
+    chapter_name = "09-stereo"
+    kinds = {"number", "array", "function", "choice"}
+    students = STUDENTS
 
 
-def test_module_is_the_registered_chapter():
-    assert ch09.CHAPTER == "09-stereo"
-    assert chapter("09-stereo") == EXERCISES
-    assert len(EXERCISES) >= 4
-    assert {"number", "array", "function", "choice"} <= {ex.kind for ex in EXERCISES}
-
-
-@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
-@pytest.mark.parametrize("sid", STUDENTS[:2])
-def test_reference_is_accepted(ex, sid):
-    verdict = _judge(ex, sid, ex.reference(parameters_for(ex, sid)))
-    assert verdict.status == "correct", verdict.message
-    assert verdict.points == ex.points
-
-
-@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
-def test_each_mistake_is_recognised_with_its_hint(ex):
-    assert ex.mistakes, f"{ex.id} declares no mistakes"
-    for index, mistake in enumerate(ex.mistakes):
-        applied = 0
-        for sid in STUDENTS:
-            wrong = mistake.wrong(parameters_for(ex, sid))
-            if wrong is None:
-                continue
-            applied += 1
-            verdict = _judge(ex, sid, wrong)
-            assert verdict.status == "wrong", (ex.id, index, sid)
-            assert verdict.mistake == mistake.tag, (ex.id, index, sid, verdict.message)
-            assert verdict.message == f"not correct: {mistake.message}", (ex.id, index, sid)
-        assert applied, f"{ex.id}: mistake {index} ({mistake.tag}) never applies"
-
-
-@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
-def test_students_get_different_variants(ex):
-    a, b = (parameters_for(ex, sid) for sid in STUDENTS[:2])
-    assert a != b
-    assert parameters_for(ex, STUDENTS[0]) == a
-    assert ex.statement.format(**a) != ex.statement.format(**b)
-
-
-def test_hidden_inputs_differ_from_the_public_ones():
+def test_intersection_cases_have_a_positive_parallax():
+    # that they are scalar and the hidden ones differ: ChapterChecks
     ex = BY_ID["st.intersection"]
     params = parameters_for(ex, STUDENTS[0])
-    public = ex.cases(rng_for(STUDENTS[0], ex.id, "public"), params)
-    hidden = ex.cases(rng_for(STUDENTS[0], ex.id, "hidden"), params)
-    assert len(public) == len(hidden) >= 3 and public != hidden
-    for case in public + hidden:
-        assert [float(a) for a in case] == list(case) and case[0] > case[2]   # px' > 0
-
-
-@pytest.mark.parametrize("ex", EXERCISES, ids=lambda ex: ex.id)
-def test_untouched_answer_is_not_answered(ex):
-    value = (lambda *args: ...) if ex.kind == "function" else ...
-    assert _judge(ex, STUDENTS[0], value).status == "not-answered"
+    for purpose in ("public", "hidden"):
+        for case in ex.cases(rng_for(STUDENTS[0], ex.id, purpose), params):
+            assert case[0] > case[2]                                            # px' > 0
 
 
 def test_a_slightly_wrong_function_is_wrong_without_a_hint():
