@@ -19,7 +19,6 @@ from typing import NamedTuple
 import numpy as np
 
 from photolib._validate import as_scalar, check_finite
-from photolib.rectify import sample_image
 from photolib.transforms._base import ConvergenceError
 
 __all__ = ["PARAMETER_NAMES", "LSMResult", "least_squares_matching", "lsm_design_matrix"]
@@ -46,10 +45,43 @@ class LSMResult(NamedTuple):
         return self.params[[0, 3]].copy()
 
 
+def _bilinear(planes, W, cols, rows):
+    """Bilinear values of the stacked images ``planes`` (C, H·W) at (``cols``, ``rows``).
+
+    The interpolation of :func:`photolib.rectify.sample_image` (the same operations in the same
+    order, so the same values) without its checks: all positions must lie in
+    ``0 ≤ col ≤ W − 1``, ``0 ≤ row ≤ H − 1``. Returns (C, n).
+    """
+    H = planes.shape[1] // W
+    c0 = np.minimum(cols.astype(np.intp), W - 2)      # floor: the positions are ≥ 0
+    r0 = np.minimum(rows.astype(np.intp), H - 2)
+    u, v = cols - c0, rows - r0
+    i = r0 * W + c0
+    t = planes.take(np.concatenate([i, i + 1, i + W, i + W + 1]), axis=1)
+    t = t.reshape(len(planes), 4, -1)                  # g00, g10, g01, g11 of each image
+    u1, v1 = 1 - u, 1 - v
+    return u1 * v1 * t[:, 0] + u * v1 * t[:, 1] + u1 * v * t[:, 2] + u * v * t[:, 3]
+
+
+def _design(r1, x, y, g, gx, gy):
+    """:func:`lsm_design_matrix` for 1-D float arrays, without its conversions (the same values)."""
+    A = np.empty((len(g), 8))
+    np.multiply(r1, gx, out=A[:, 0])
+    np.multiply(A[:, 0], x, out=A[:, 1])
+    np.multiply(A[:, 0], y, out=A[:, 2])
+    np.multiply(r1, gy, out=A[:, 3])
+    np.multiply(A[:, 3], x, out=A[:, 4])
+    np.multiply(A[:, 3], y, out=A[:, 5])
+    A[:, 6] = 1.0
+    A[:, 7] = g
+    return A
+
+
 def _template_coordinates(shape):
+    """(x, y) = (col, row) of the template pixels from its centre, row by row, each (h·w,)."""
     h, w = shape
-    yy, xx = np.mgrid[:h, :w].astype(float)
-    return xx - (w - 1) / 2.0, yy - (h - 1) / 2.0
+    return (np.tile(np.arange(w, dtype=float) - (w - 1) / 2.0, h),
+            np.repeat(np.arange(h, dtype=float) - (h - 1) / 2.0, w))
 
 
 def lsm_design_matrix(params, x, y, g, gx, gy) -> np.ndarray:
@@ -88,10 +120,12 @@ def least_squares_matching(template, search, initial, *, tol: float = 1e-4, max_
     r"""Least-squares matching of ``template`` in ``search`` (affine + linear radiometric).
 
     Each iteration resamples the search image and its gradient at
-    :math:`x' = a_0 + a_1x + a_2y`, :math:`y' = b_0 + b_1x + b_2y` (bilinear,
-    :func:`photolib.rectify.sample_image`), solves the normal equations of
-    :func:`lsm_design_matrix` for the increments and adds them. It stops when no template
-    pixel moves by ``tol`` pixels or more in a step.
+    :math:`x' = a_0 + a_1x + a_2y`, :math:`y' = b_0 + b_1x + b_2y` (bilinear as
+    :func:`photolib.rectify.sample_image`, the three images in one gather), solves the normal
+    equations of :func:`lsm_design_matrix` for the increments and adds them. It stops when no
+    template pixel moves by ``tol`` pixels or more in a step. The normal equations count as
+    singular when the condition number of :math:`N` scaled to unit diagonal,
+    :math:`λ_{max}/λ_{min}` (symmetric eigenvalues), exceeds :math:`10^{12}`.
     The precision is :math:`σ_0 = \sqrt{v^Tv/(n - 8)}` and
     :math:`Σ = σ_0^2 (A^TA)^{-1}`.
 
@@ -155,8 +189,8 @@ def least_squares_matching(template, search, initial, *, tol: float = 1e-4, max_
         raise ValueError("the template is flat (no grey-value gradient): its position cannot "
                          "be determined by matching")
     gy_img, gx_img = np.gradient(g_img)
-    stack = np.stack([g_img, gx_img, gy_img], axis=-1)
-    x, y = (v.ravel() for v in _template_coordinates(f.shape))
+    planes = np.stack([g_img.ravel(), gx_img.ravel(), gy_img.ravel()])  # sampled together
+    x, y = _template_coordinates(f.shape)
     fv = f.ravel()
     hx, hy = float(np.max(np.abs(x))), float(np.max(np.abs(y)))
     H, W = g_img.shape
@@ -164,41 +198,45 @@ def least_squares_matching(template, search, initial, *, tol: float = 1e-4, max_
     converged = False
     it = 0
     for it in range(1, max_iter + 1):
-        cols = q[0] + q[1] * x + q[2] * y
-        rows = q[3] + q[4] * x + q[5] * y
-        if cols.min() < 0 or rows.min() < 0 or cols.max() > W - 1 or rows.max() > H - 1:
+        a0, a1, a2, b0, b1, b2, r0, r1 = q.tolist()       # Python floats: cheaper, same values
+        cols = a0 + a1 * x + a2 * y
+        rows = b0 + b1 * x + b2 * y
+        if not (cols.min() >= 0 and rows.min() >= 0 and cols.max() <= W - 1
+                and rows.max() <= H - 1):                  # (NaN positions count as outside)
             err = ConvergenceError(f"least-squares matching diverged: after {it - 1} iterations "
-                                   f"the patch (centre col {q[0]:.2f}, row {q[3]:.2f}) leaves "
+                                   f"the patch (centre col {a0:.2f}, row {b0:.2f}) leaves "
                                    f"the search image of {W} × {H} pixels")
             err.history = np.array(history)
             raise err
-        g, gx, gy = sample_image(stack, np.column_stack([cols, rows])).T
-        A = lsm_design_matrix(q, x, y, g, gx, gy)
-        l = fv - (q[6] + q[7] * g)  # noqa: E741 - the usual name of the observation vector
+        g, gx, gy = _bilinear(planes, W, cols, rows)
+        A = _design(r1, x, y, g, gx, gy)
+        l = fv - (r0 + r1 * g)  # noqa: E741 - the usual name of the observation vector
         N = A.T @ A
-        s = np.sqrt(np.diag(N))
-        if np.any(s == 0) or np.linalg.cond(N / np.outer(s, s)) > 1e12:
+        s = np.sqrt(N.diagonal())
+        # cond₂ of the symmetric positive semi-definite scaled N is λmax/λmin (no SVD needed)
+        lam = np.linalg.eigvalsh(N / (s[:, None] * s)) if s.all() else (0.0, 1.0)
+        if not lam[0] * 1e12 >= lam[-1]:
             raise ValueError("the normal equations of the matching are singular: the search "
                              "patch has no texture in one direction (flat or one-dimensional)")
         dq = np.linalg.solve(N, A.T @ l)
         q = q + dq
-        history.append(q.copy())
-        if not np.all(np.isfinite(q)):
+        history.append(q)
+        if not np.isfinite(q).all():
             raise ConvergenceError(f"least-squares matching diverged at iteration {it}")
-        move = max(abs(dq[0]) + abs(dq[1]) * hx + abs(dq[2]) * hy,
-                   abs(dq[3]) + abs(dq[4]) * hx + abs(dq[5]) * hy)
+        d = np.abs(dq).tolist()
+        move = max(d[0] + d[1] * hx + d[2] * hy, d[3] + d[4] * hx + d[5] * hy)
         if move < tol:
             converged = True
             break
     if not converged and check:
         raise ConvergenceError(f"least-squares matching did not converge in {max_iter} "
                                f"iterations (last shift step {np.hypot(dq[0], dq[3]):.3g} px)")
-    cols = q[0] + q[1] * x + q[2] * y
-    rows = q[3] + q[4] * x + q[5] * y
-    inside = np.column_stack([np.clip(cols, 0, W - 1), np.clip(rows, 0, H - 1)])
-    g, gx, gy = sample_image(stack, inside).T
-    v = fv - (q[6] + q[7] * g)
-    A = lsm_design_matrix(q, x, y, g, gx, gy)
+    a0, a1, a2, b0, b1, b2, r0, r1 = q.tolist()
+    cols = np.clip(a0 + a1 * x + a2 * y, 0, W - 1)
+    rows = np.clip(b0 + b1 * x + b2 * y, 0, H - 1)
+    g, gx, gy = _bilinear(planes, W, cols, rows)
+    v = fv - (r0 + r1 * g)
+    A = _design(r1, x, y, g, gx, gy)
     red = len(fv) - 8
     sigma0 = float(np.sqrt(v @ v / red))
     cov = sigma0**2 * np.linalg.inv(A.T @ A)
