@@ -13,10 +13,12 @@ all images (self-calibration / Selbstkalibrierung). Gauss–Markov model with eq
 
 ``N_pp`` is block diagonal (one 3×3 block per point), so the points are eliminated point by
 point (Schur complement, reduced normal equations) and back-substituted,
-``dp_i = N_ii^{-1}(b_i − N_iy dy)``. The datum (Datum) is fixed by control points
-(Passpunkte, fixed coordinates) or, for a free network (freies Netz, *swobodna sieć*), by
-the seven inner constraints of a spatial similarity on the object points
-(minimum norm of their corrections, ``Bᵀ dp = 0``), added by Lagrange multipliers.
+``dp_i = N_ii^{-1}(b_i − N_iy dy)``. N is accumulated in blocks (6×6 per image, 3×3 per
+point, 3×6 per observation, the k interior rows), O(N·(6 + k)²); each step solves the reduced
+system by LU, its inverse (the covariances) is formed once, after convergence. The datum
+(Datum) is fixed by control points (Passpunkte, fixed coordinates) or, for a free network
+(freies Netz, *swobodna sieć*), by the seven inner constraints of a spatial similarity on the
+object points (minimum norm of their corrections, ``Bᵀ dp = 0``), added by Lagrange multipliers.
 Then
 
 .. math::
@@ -38,7 +40,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from photolib._validate import as_scalar, check_finite
-from photolib.collinearity import PointBehindCameraError, collinearity_jacobian, project
+from photolib._generated.collinearity import collinearity_jacobian_opk, project_r
+from photolib.collinearity import PointBehindCameraError, project  # noqa: F401  (doctest)
 from photolib.distortion import Distortion
 from photolib.rotations import rotation_opk
 from photolib.transforms._base import ConvergenceError
@@ -455,65 +458,86 @@ def bundle_adjustment(xy, image_index, point_index, exterior, points, c, x0=0.0,
         raise DatumError(f"more unknowns than observations: n = {n_obs}, u = {u}, d = {d}")
     extent = float(np.max(np.ptp(pts, axis=0))) or 1.0
     ny = 6 * M + k + d
+    cols = np.column_stack([6 * np.arange(M)[:, None] + np.arange(6),  # of image a, interior
+                            np.broadcast_to(6 * M + np.arange(k), (M, k))]).astype(int)
+    # observations sorted by image and (new points only) by point: sums by np.add.reduceat
+    by_image = np.argsort(j, kind="stable")
+    image_start = np.searchsorted(j[by_image], np.arange(M))
+    m = np.flatnonzero(~ctrl[i])
+    s, jm = slot[i[m]], j[m]
+    by_point = np.argsort(s, kind="stable")
+    point_start = np.searchsorted(s[by_point], np.arange(len(free)))
+    probe = np.random.default_rng(0).standard_normal((ny, 2))  # condition estimate, solve_reduced
 
     def linearise(ext, pts, interior):
+        """v (N, 2); A (N, 2, 6 + k): ∂/∂ own image, ∂/∂ interior; Ap (N, 2, 3): ∂/∂ point."""
         dist = Distortion(r0=r0, **{n: interior[n] for n in _DIST})
         pp = np.array([interior["x0"], interior["y0"]])
         red = xy - pp
-        v = np.empty_like(xy)
-        Ay = np.zeros((len(xy), 2, ny))
-        Ap = np.empty((len(xy), 2, 3))
-        for jj in range(M):
-            rows = np.flatnonzero(j == jj)
-            R = rotation_opk(*ext[jj, 3:])
-            Xj = pts[i[rows]]
-            proj = project(Xj, ext[jj, :3], R, interior["c"], *pp)
-            v[rows] = proj - xy[rows]
-            J = collinearity_jacobian(Xj, ext[jj, :3], R, interior["c"], angles=tuple(ext[jj, 3:]))
-            Ay[rows, :, 6 * jj:6 * jj + 6] = J[:, :, :6]
-            Ap[rows] = J[:, :, 6:]
-            if k and "c" in calib:
-                Ay[rows, :, 6 * M + calib.index("c")] = (proj - pp) / interior["c"]
+        E, X = ext[j].T, pts[i].T
+        R = rotation_opk(*ext[:, 3:].T).reshape(M, 9)[j].T
+        x, y, depth = project_r(*X, *E[:3], *R, interior["c"], *pp)
+        if not np.all(depth < 0):
+            q = int(np.argmin(depth < 0))
+            raise PointBehindCameraError(f"object point {i[q]} is not in front of image {j[q]}: "
+                                         f"N = {depth[q]:.6g} ≥ 0")
+        proj = np.column_stack([x, y])
+        v = proj - xy
+        dJ = collinearity_jacobian_opk(*X, *E, interior["c"])
+        J = np.stack(np.broadcast_arrays(*dJ), axis=-1).reshape(-1, 9, 2).transpose(0, 2, 1)
+        A = np.concatenate([J[:, :, :6], np.zeros((len(xy), 2, k))], axis=2)
+        if "c" in calib:
+            A[:, :, 6 + calib.index("c")] = (proj - pp) / interior["c"]
         if not dist.is_zero:
             v += dist.delta(red)
         if k:
-            Jxy = dist.jacobian_xy(red)
-            Jpar = dist.jacobian_params(red)
+            Jxy, Jpar = dist.jacobian_xy(red), dist.jacobian_params(red)
             for n, name in enumerate(calib):
-                col = 6 * M + n
                 if name in ("x0", "y0"):
                     e = 0 if name == "x0" else 1
-                    Ay[:, :, col] = -Jxy[:, :, e]
-                    Ay[:, e, col] += 1.0
+                    A[:, :, 6 + n] = -Jxy[:, :, e]
+                    A[:, e, 6 + n] += 1.0
                 elif name != "c":
-                    Ay[:, :, col] = Jpar[:, :, _DIST.index(name)]
-        return v, Ay, Ap
+                    A[:, :, 6 + n] = Jpar[:, :, _DIST.index(name)]
+        return v, A, np.ascontiguousarray(J[:, :, 6:])
 
-    def normals(v, Ay, Ap, pts):
-        lv = -v
-        A2 = Ay.reshape(-1, ny)
-        Nyy = A2.T @ A2
-        by = A2.T @ lv.ravel()
-        m = ctrl[i] == 0
-        Npp = np.zeros((len(free), 3, 3))
+    def normals(v, A, Ap, pts):
+        """Reduced normal equations, accumulated in blocks: 6 × 6 (+ k) per image, 3 × 3 per
+        point, 3 × 6 per observation of a new point (its image–point coupling)."""
+        lv = -v[:, :, None]
+        W = A.transpose(0, 2, 1) @ np.concatenate([A, lv], axis=2)
+        W = np.add.reduceat(W[by_image], image_start, axis=0)  # (M, 6 + k, 7 + k)
+        Nyy, by = np.zeros((ny, ny)), np.zeros(ny)
+        np.add.at(Nyy, (cols[:, :, None], cols[:, None, :]), W[:, :, :-1])
+        np.add.at(by, cols, W[:, :, -1])
+        Wp = Ap[m].transpose(0, 2, 1) @ np.concatenate([Ap[m], A[m], lv[m]], axis=2)
+        Sp = np.add.reduceat(Wp[by_point], point_start, axis=0)  # N_pp | N_p,interior | b_p
         Npy = np.zeros((len(free), 3, ny))
-        bp = np.zeros((len(free), 3))
-        s = slot[i[m]]
-        ApT = Ap[m].transpose(0, 2, 1)
-        np.add.at(Npp, s, ApT @ Ap[m])
-        np.add.at(Npy, s, ApT @ Ay[m])
-        np.add.at(bp, s, (ApT @ lv[m][:, :, None])[:, :, 0])
+        Npy[s[:, None, None], np.arange(3)[:, None], cols[jm, None, :6]] = Wp[:, :, 3:9]
+        Npy[:, :, 6 * M:6 * M + k] = Sp[:, :, 9:9 + k]
         if d:
             Npy[:, :, 6 * M + k:] = inner_constraints(pts).reshape(P, 3, 7)[free]
-        Ninv = np.linalg.inv(Npp)
+        bp = Sp[:, :, -1]
+        Ninv = np.linalg.inv(Sp[:, :, :3])
         T = Ninv @ Npy  # (Pf, 3, ny)
         K = Nyy - Npy.reshape(-1, ny).T @ T.reshape(-1, ny)
         rhs = by - T.reshape(-1, ny).T @ bp.ravel()
         return K, rhs, Ninv, T, bp
 
-    def solve_reduced(K):
+    def solve_reduced(K, rhs=None):
+        """K⁻¹·rhs by LU on the scaled K_s if two inverse iterations put its condition
+        ‖K_s‖_F·‖K_s⁻¹‖ below 1e10; else (and for rhs None) the SVD check, then K⁻¹(·rhs)."""
         scale = 1.0 / np.sqrt(np.where(np.abs(np.diag(K)) > 0, np.abs(np.diag(K)), 1.0))
         Ks = K * scale[:, None] * scale[None, :]
+        if rhs is not None:
+            try:
+                Z = np.linalg.solve(Ks, np.column_stack([scale * rhs, probe]))
+                Z2 = np.linalg.solve(Ks, Z[:, 1:] / np.linalg.norm(Z[:, 1:], axis=0))
+                if (np.linalg.norm(Ks) * np.max(np.linalg.norm(Z2, axis=0)) < 1e10
+                        and np.all(np.isfinite(Z[:, 0]))):
+                    return scale * Z[:, 0]
+            except np.linalg.LinAlgError:
+                pass
         sv = np.linalg.svd(Ks, compute_uv=False)
         if sv[-1] <= 1e-12 * sv[0]:
             what = ("the inner constraints do not remove the defect" if d else
@@ -521,17 +545,17 @@ def bundle_adjustment(xy, image_index, point_index, exterior, points, c, x0=0.0,
             raise DatumError(f"the reduced normal matrix is singular (condition "
                              f"{sv[0] / max(sv[-1], 1e-300):.3g}): {what}, or the geometry is "
                              "degenerate (e.g. self-calibration parameters not determined)")
-        return scale[:, None] * np.linalg.inv(Ks) * scale[None, :]
+        Kinv = scale[:, None] * np.linalg.inv(Ks) * scale[None, :]
+        return Kinv if rhs is None else Kinv @ rhs
 
     history, converged, it = [], False, 0
     for it in range(1, max_iter + 1):
         try:
-            v, Ay, Ap = linearise(ext, pts, interior)
+            v, A, Ap = linearise(ext, pts, interior)
         except PointBehindCameraError as exc:
             raise ConvergenceError(f"bundle adjustment diverged in iteration {it}: {exc}") from None
-        K, rhs, Ninv, T, bp = normals(v, Ay, Ap, pts)
-        Kinv = solve_reduced(K)
-        dy = Kinv @ rhs
+        K, rhs, Ninv, T, bp = normals(v, A, Ap, pts)
+        dy = solve_reduced(K, rhs)
         dp = (Ninv @ bp[:, :, None])[:, :, 0] - T @ dy
         if not (np.all(np.isfinite(dy)) and np.all(np.isfinite(dp))):
             raise ConvergenceError(f"bundle adjustment diverged in iteration {it}: non-finite step")
@@ -558,16 +582,14 @@ def bundle_adjustment(xy, image_index, point_index, exterior, points, c, x0=0.0,
                                f"iterations (last length update {dl:.3g}, angle update {da:.3g}); "
                                "pass check=False to get the last iterate")
     try:
-        v, Ay, Ap = linearise(ext, pts, interior)
+        v, A, Ap = linearise(ext, pts, interior)
     except PointBehindCameraError as exc:
         raise ConvergenceError(f"bundle adjustment ended with {exc}") from None
-    K, rhs, Ninv, T, bp = normals(v, Ay, Ap, pts)
-    Kinv = solve_reduced(K)
+    K, rhs, Ninv, T, bp = normals(v, A, Ap, pts)
+    Kinv = solve_reduced(K)  # the covariance: once, after convergence
     # diag(A Q A^T) per observation: g = a_y − a_p T_i, q = g K⁻¹ gᵀ + a_p N_ii⁻¹ a_pᵀ
-    G = Ay.copy()
-    m = np.flatnonzero(~ctrl[i])
-    s = slot[i[m]]
-    G[m] -= Ap[m] @ T[s]
+    G = -(Ap @ np.concatenate([T, np.zeros((1, 3, ny))])[slot[i]])  # slot −1: control, 0
+    G[np.arange(len(xy))[:, None, None], np.arange(2)[:, None], cols[j, None, :]] += A
     qhat = ((G.reshape(-1, ny) @ Kinv) * G.reshape(-1, ny)).sum(axis=1).reshape(-1, 2)
     qhat[m] += ((Ap[m] @ Ninv[s]) * Ap[m]).sum(axis=2)
     qvv = np.clip(1.0 - qhat, 0.0, 1.0)
