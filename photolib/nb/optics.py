@@ -343,6 +343,8 @@ def plot_stereo_acuity(base_mm: float = 65.0, acuity_arcsec=(5.0, 10.0, 30.0)):
         ax.loglog(Z / 1e3, po.stereo_depth_acuity(Z, base_mm, eps) / 1e3, label=f"ε = {s:g}''")
     ax.set(xlabel="distance Z [m]", ylabel="ΔZ [m]",
            title=f"stereoscopic depth acuity, eye base b = {base_mm:g} mm")
+    # decades only: the minor ticks of a log–log plot over seven decades cost a third of its draw
+    ax.minorticks_off()
     ax.legend(fontsize=7)
     return fig
 
