@@ -77,7 +77,9 @@ def _state(widget):
 def test_chapter_runs_and_widgets_react(lab_url, lab_log, page, artifacts, chapter):
     errors = []
     page.on("pageerror", lambda exc: errors.append(str(exc)))
-    page.goto(f"{lab_url}/lab/tree/notebooks/{chapter}.ipynb")
+    # ?reset: a fresh workspace, or JupyterLab reopens every earlier chapter in a tab of its
+    # own, each starting a kernel again, and the later chapters wait behind them
+    page.goto(f"{lab_url}/lab/tree/notebooks/{chapter}.ipynb?reset")
     _run_all(page, lab_log)
     widgets = page.locator(".photolib-explorer")
     widgets.first.wait_for(timeout=30_000)
