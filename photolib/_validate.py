@@ -5,10 +5,12 @@ from __future__ import annotations
 import numpy as np
 
 
-def as_points(values, dim: int, name: str) -> tuple[np.ndarray, bool]:
+def as_points(values, dim: int, name: str, *, finite: bool = True) -> tuple[np.ndarray, bool]:
     """Return ``(points (N, dim) float array, single)``; ``single`` if a (dim,) point was given.
 
-    Raises ``ValueError`` naming ``name``, the shape and the first non-finite entry.
+    Raises ``ValueError`` naming ``name``, the shape and the first non-finite entry. With
+    ``finite=False`` the caller checks finiteness itself (block by block, while the block is
+    in the cache) and calls :func:`check_finite` on the whole array for the message.
     """
     try:
         arr = np.asarray(values, dtype=float)
@@ -19,7 +21,8 @@ def as_points(values, dim: int, name: str) -> tuple[np.ndarray, bool]:
         arr = arr[None, :]
     if arr.ndim != 2 or arr.shape[1] != dim:
         raise ValueError(f"{name} has shape {np.shape(values)}; expected (N, {dim}) or ({dim},)")
-    check_finite(arr, name)
+    if finite:
+        check_finite(arr, name)
     return arr, single
 
 

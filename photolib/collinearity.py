@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from photolib._generated.collinearity import collinearity_jacobian_opk, project_r
-from photolib._validate import as_points, as_rotation, as_scalar, as_vector3
+from photolib._validate import as_points, as_rotation, as_scalar, as_vector3, check_finite
 from photolib.distortion import Distortion
 from photolib.rotations import opk_from_rotation
 
@@ -77,7 +77,7 @@ def project(X, X0, R, c, x0=0.0, y0=0.0, distortion=None, *, return_valid=False)
     >>> project([1.0, 2.0, 0.0], [0.0, 0.0, 100.0], np.eye(3), c=50.0).round(12).tolist()
     [0.5, 1.0]
     """
-    pts, single = as_points(X, 3, "X")
+    pts, single = as_points(X, 3, "X", finite=False)  # checked per block below
     X0 = as_vector3(X0, "X0")
     R = as_rotation(R)
     c, x0, y0 = _interior(c, x0, y0, distortion)
@@ -87,6 +87,8 @@ def project(X, X0, R, c, x0=0.0, y0=0.0, distortion=None, *, return_valid=False)
     r = R.ravel()
     for s in range(0, n, BLOCK):
         b = pts[s:s + BLOCK].T
+        if not np.isfinite(b).all():
+            check_finite(pts, "X")  # raises, naming the first bad entry of the whole array
         x, y, N = project_r(b[0], b[1], b[2], X0[0], X0[1], X0[2], *r, c, x0, y0)
         out[s:s + BLOCK, 0] = x
         out[s:s + BLOCK, 1] = y
