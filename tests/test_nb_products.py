@@ -23,6 +23,7 @@ from photolib.nb import products as npr  # noqa: E402
 from photolib.rectify import output_grid  # noqa: E402
 
 from .explorer_checks import assert_explorer_widget, assert_update_is_fast, moves  # noqa: E402
+from .scene_checks import segment_hits_box  # noqa: E402
 
 
 pytestmark = pytest.mark.usefixtures("close_figures")
@@ -61,20 +62,6 @@ def test_plane_rectification_is_exact_on_flat_ground_whatever_the_tilt():
         assert np.abs(rep["plane_err"]).max() < 1e-6
 
 
-def _box_hidden(P, X0, box):
-    lo, hi = np.array([box[0], box[2], 0.0]), np.array([box[1], box[3], box[4]])
-    d = X0 - P
-    t0, t1 = 1e-9, 1.0
-    for k in range(3):
-        if abs(d[k]) < 1e-15:
-            if not lo[k] <= P[k] <= hi[k]:
-                return False
-            continue
-        a, b = (lo[k] - P[k]) / d[k], (hi[k] - P[k]) / d[k]
-        t0, t1 = max(t0, min(a, b)), min(t1, max(a, b))
-    return t1 - t0 > 1e-9
-
-
 @pytest.mark.parametrize("height, offset", [(20.0, 20.0), (45.0, 5.0), (8.0, 30.0)])
 def test_true_ortho_report_matches_the_slab_test(height, offset):
     rep = npr.true_ortho_report(height, offset)
@@ -89,7 +76,7 @@ def test_true_ortho_report_matches_the_slab_test(height, offset):
             if box[0] < X < box[1] and box[2] < Y < box[3]:
                 ref[i, j] = 2
             else:
-                ref[i, j] = 0 if _box_hidden(np.array([X, Y, 0.0]), X0, box) else 1
+                ref[i, j] = 0 if segment_hits_box(np.array([X, Y, 0.0]), X0, box) else 1
     np.testing.assert_array_equal(rep["classes"], ref)
     dist = box[1] - X0[0]
     expected = float(dp.occluded_length().subs({dp.d: dist, dp.h: height, dp.H: 100.0}))

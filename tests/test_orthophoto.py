@@ -24,6 +24,8 @@ from photolib import orthophoto as op
 from photolib.derive import products as dp
 from photolib.rectify import output_grid
 
+from .scene_checks import segment_hits_box
+
 C = 50.0                                   # mm
 PIX = 0.05                                 # mm
 W, H_IMG = 600, 500
@@ -267,22 +269,6 @@ def _box_dsm(order=0):
     return op.DTM.from_function(z, (90, 100), (0.5, 89.5), 1.0, order=order)
 
 
-def _segment_hits_box(P, X0):
-    """Slab test: does the open segment P → X0 pass through the box (below its roof)?"""
-    lo = np.array([BOX[0], BOX[2], 0.0])
-    hi = np.array([BOX[1], BOX[3], BOX[4]])
-    d = X0 - P
-    t0, t1 = 1e-9, 1.0
-    for k in range(3):
-        if abs(d[k]) < 1e-15:
-            if not lo[k] <= P[k] <= hi[k]:
-                return False
-            continue
-        a, b = (lo[k] - P[k]) / d[k], (hi[k] - P[k]) / d[k]
-        t0, t1 = max(t0, min(a, b)), min(t1, max(a, b))
-    return t1 - t0 > 1e-9
-
-
 def _box_camera():
     return op.FrameCamera((25.0, 20.0, 120.0), pl.rotation_opk(0.01, -0.02, 0.3), 35.0,
                           W, H_IMG, 0.08)
@@ -327,7 +313,7 @@ def test_visibility_matches_the_analytic_occlusion_of_a_box(step):
             X, Y = grid[i, j]
             on_roof = BOX[0] < X < BOX[1] and BOX[2] < Y < BOX[3]
             P = np.array([X, Y, BOX[4] if on_roof else 0.0])
-            ref[i, j] = on_roof or not _segment_hits_box(P, cam.X0)
+            ref[i, j] = on_roof or not segment_hits_box(P, cam.X0, BOX)
     assert (~ref).sum() > 50                              # a real occluded area
     np.testing.assert_array_equal(vis, ref)
 
