@@ -113,7 +113,26 @@ def sandbox_support() -> SandboxSupport:
     own_user = os.geteuid() == 0 and shutil.which("setpriv") is not None
     if not own_user:
         notes.append("not root (or no setpriv): kernels run as the grader's own user")
+    elif not _unprivileged_can_import():
+        own_user = False
+        notes.append("an unprivileged user cannot run this Python or import photolib (is the "
+                     "repository or the virtual environment inside a folder only its owner may "
+                     "enter, e.g. one made by mktemp -d?): kernels run as the grader's own user")
     return SandboxSupport(prlimit, no_network, own_user, tuple(notes))
+
+
+def _unprivileged_can_import(uid: int = 65534) -> bool:
+    """Whether user ``uid`` (nobody) can start this interpreter and import photolib."""
+    root = str(Path(__file__).resolve().parents[2])
+    env = {"PATH": os.environ.get("PATH", ""), "PYTHONPATH": root, "HOME": "/",
+           "PYTHONDONTWRITEBYTECODE": "1"}
+    cmd = ["setpriv", f"--reuid={uid}", f"--regid={uid}", "--clear-groups", "--",
+           sys.executable, "-c", "import photolib, ipykernel"]
+    try:
+        probe = subprocess.run(cmd, capture_output=True, env=env, cwd="/", timeout=60)
+    except (OSError, subprocess.TimeoutExpired):
+        return False
+    return probe.returncode == 0
 
 
 class UidPool:
