@@ -83,7 +83,7 @@ def thin_lens_image_distance(obj=a):
     ``y = H(1 − z/f)``. Their intersection is the image point; its abscissa is returned.
     """
     H, z = sp.symbols("H z", positive=True)
-    return sp.simplify(_linear_root(-H * z / obj, H * (1 - z / f), z))
+    return sp.together(_linear_root(-H * z / obj, H * (1 - z / f), z))
 
 
 def imaging_equation_residual():
@@ -93,7 +93,7 @@ def imaging_equation_residual():
 
 def image_scale_number(obj=a):
     """Image scale number ``m_b = a/a'`` (Bildmaßstabszahl); ``M_b = 1 : m_b``."""
-    return sp.simplify(obj / thin_lens_image_distance(obj))
+    return sp.together(obj / thin_lens_image_distance(obj))
 
 
 def half_field_angle_tan():
@@ -122,7 +122,7 @@ def dof_limits():
     """
     near = _linear_root(blur_diameter(ax), up, ax)
     far = _linear_root(blur_diameter(ax), -up, ax)
-    return sp.simplify(near), sp.simplify(far)
+    return sp.cancel(near), sp.simplify(far)
 
 
 def dof_blur_from_limits():
@@ -132,8 +132,8 @@ def dof_blur_from_limits():
     identity ``(a_h − a_v)/(a_h + a_v) = u'k(a − f)/f²``); the caller compares forms.
     """
     nv, nh = dof_limits()
-    ratio = sp.simplify((nh - nv) / (nh + nv))
-    return sp.simplify(ratio * f**2 / (k * (a - f)))
+    ratio = sp.factor((nh - nv) / (nh + nv))
+    return sp.cancel(ratio * f**2 / (k * (a - f)))
 
 
 def dof_depth():
@@ -157,7 +157,7 @@ def relative_irradiance():
         dist = c_cam / sp.cos(t)
         solid = A_ap * sp.cos(t) / dist**2     # foreshortened aperture / distance²
         return E0 * solid * sp.cos(t)          # oblique incidence on the sensor
-    return sp.simplify(irradiance(tau) / irradiance(0))
+    return sp.together(irradiance(tau) / irradiance(0))
 
 
 # -- extensions for chapter 02: hyperfocal distance, diffraction, dispersion, stereo vision -------
@@ -173,7 +173,7 @@ def hyperfocal_distance():
     """
     _, far = dof_limits()
     den = sp.denom(sp.together(far))
-    return sp.simplify(_linear_root(den, 0, a))
+    return sp.expand(_linear_root(den, 0, a))
 
 
 def airy_first_zero(digits: int = 20):
@@ -213,7 +213,7 @@ def encircled_energy_rate_residual():
     J0, J1 = sp.besselj(0, v_airy), sp.besselj(1, v_airy)
     expr = expr.subs({sp.besselj(2, v_airy): 2 * J1 / v_airy - J0,
                       sp.besselj(-1, v_airy): -J1})
-    return sp.simplify(expr)
+    return sp.together(expr)
 
 
 SELLMEIER_B = sp.symbols("B1:4", positive=True)
@@ -232,7 +232,7 @@ def lensmaker_focal_length(n=n_glass):
 
 def chromatic_focal_length():
     """f(λ) from f at a reference index: ``f_ref·(n_ref − 1)/(n − 1)`` (same R1, R2)."""
-    ratio = sp.simplify(lensmaker_focal_length(n_glass) / lensmaker_focal_length(n_ref))
+    ratio = sp.together(lensmaker_focal_length(n_glass) / lensmaker_focal_length(n_ref))
     return f_ref * ratio
 
 
@@ -253,7 +253,7 @@ def stereo_depth_acuity_first_order():
     # the Taylor polynomial of degree 1 written out: the same as sp.series(…, eps, 0, 2) and
     # some fifteen times faster
     first = exact.subs(eps, 0) + sp.diff(exact, eps).subs(eps, 0) * eps
-    return sp.simplify(first)
+    return sp.expand(first)
 
 
 def pinhole_blur(d=d_pin):
