@@ -97,23 +97,46 @@ def sample_image(image, colrow, *, order: int = 1, fill: float = 0.0) -> np.ndar
     finite = np.isfinite(col) & np.isfinite(row)
     col = np.where(finite, col, -1e9)
     row = np.where(finite, row, -1e9)
-    out = np.full((len(flat),) + extra, float(fill))
     if order == 0:
+        out = np.full((len(flat),) + extra, float(fill))
         c = np.floor(col + 0.5)
         r = np.floor(row + 0.5)
         inside = finite & (c >= 0) & (c <= W - 1) & (r >= 0) & (r <= H - 1)
         out[inside] = img[r[inside].astype(np.intp), c[inside].astype(np.intp)]
     else:
         inside = finite & (col >= 0) & (col <= W - 1) & (row >= 0) & (row <= H - 1)
-        ci, ri = col[inside], row[inside]
-        c0 = np.minimum(np.floor(ci).astype(np.intp), max(W - 2, 0))
-        r0 = np.minimum(np.floor(ri).astype(np.intp), max(H - 2, 0))
-        c1, r1 = np.minimum(c0 + 1, W - 1), np.minimum(r0 + 1, H - 1)
+        everywhere = bool(inside.all())  # the usual case: no compaction, no scatter
+        ci, ri = (col, row) if everywhere else (col[inside], row[inside])
+        c0 = np.floor(ci).astype(np.intp)
+        r0 = np.floor(ri).astype(np.intp)
         u, v = ci - c0, ri - r0
         if extra:
             u, v = u[:, None], v[:, None]
-        out[inside] = ((1 - u) * (1 - v) * img[r0, c0] + u * (1 - v) * img[r0, c1]
-                       + (1 - u) * v * img[r1, c0] + u * v * img[r1, c1])
+        # four gathers from the raveled image by one linear index; on the last column (row)
+        # u = 0 (v = 0) and the neighbour is the pixel itself, so grid nodes are reproduced
+        # exactly
+        pixels = img.reshape((H * W,) + extra)
+        step_c = (c0 < W - 1).view(np.int8)
+        step_r = (r0 < H - 1) * W
+        idx = r0 * W
+        idx += c0
+        g00 = pixels.take(idx, axis=0).astype(float, copy=False)
+        top = pixels.take(idx + step_c, axis=0) - g00
+        top *= u
+        top += g00                                  # (1 − u)·g00 + u·g10
+        idx += step_r
+        g01 = pixels.take(idx, axis=0).astype(float, copy=False)
+        bottom = pixels.take(idx + step_c, axis=0) - g01
+        bottom *= u
+        bottom += g01                               # (1 − u)·g01 + u·g11
+        bottom -= top
+        bottom *= v
+        bottom += top                               # (1 − v)·top + v·bottom
+        if everywhere:
+            out = bottom
+        else:
+            out = np.full((len(flat),) + extra, float(fill))
+            out[inside] = bottom
     return out.reshape(pos.shape[:-1] + extra)
 
 
