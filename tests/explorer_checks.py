@@ -7,8 +7,6 @@ figures are closed after each test by the ``close_figures`` fixture of ``tests/c
 
 from __future__ import annotations
 
-import time
-
 
 def moves(explorer, name, value):
     """Set slider ``name`` to ``value``: (did the PNG change, did the text change)."""
@@ -17,22 +15,15 @@ def moves(explorer, name, value):
     return explorer.live.png != before_png, explorer.html.value != before_html
 
 
-def fastest_update(explorer, name, values):
-    """The shortest time, in seconds, of setting slider ``name`` to each of ``values`` in turn."""
-    best = float("inf")
+def assert_every_value_redraws(cls, name, values):
+    """A fresh ``cls()`` redraws (figure or text) each time slider ``name`` moves to the next of
+    ``values``. How fast it redraws is measured in ``benchmarks/bench_widgets.py`` (target
+    50 ms), not here: a timed test would only measure how busy the test machine is."""
+    explorer = cls()
     for value in values:
-        t = time.perf_counter()
-        explorer.controls[name].value = value
-        best = min(best, time.perf_counter() - t)
-    return best
-
-
-def assert_update_is_fast(cls, name, values, *, repeats=5, bound=0.25):
-    """A fresh ``cls()`` redraws for slider ``name`` (``values`` set ``repeats`` times over) in
-    less than ``bound`` seconds at best. The target is 50 ms (benchmarks/bench_widgets.py:
-    about 15-30 ms measured); the default bound only catches a redraw of the whole figure and
-    tolerates a loaded test machine."""
-    assert fastest_update(cls(), name, tuple(values) * repeats) < bound
+        if explorer.controls[name].value == value:
+            continue
+        assert any(moves(explorer, name, value)), f"{cls.__name__}: {name} = {value!r} redrew nothing"
 
 
 def assert_explorer_widget(explorer, title):

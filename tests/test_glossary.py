@@ -7,7 +7,6 @@ outline held in :data:`photolib.glossary.CHAPTERS` (COURSE.md's table).
 from __future__ import annotations
 
 import csv
-import time
 from pathlib import Path
 
 import pytest
@@ -107,7 +106,7 @@ def test_links_point_to_the_chapter_notebooks():
     assert "<a href='12-products.ipynb'>12-products</a>" in html and "ortofotó" in html
 
 
-def test_explorer_callbacks_filter_and_are_fast():
+def test_explorer_callbacks_filter():
     e = ng.GlossaryExplorer()
     assert "photolib-explorer" in e.widget._dom_classes
     assert repr(e.widget) == "[widget: glossary search]"
@@ -117,9 +116,8 @@ def test_explorer_callbacks_filter_and_are_fast():
     assert "önkalibráció" in e.html.value
     e.controls["chapter"].value = "12-products"
     assert e.html.value.startswith("<p>0 of")
-    t = time.perf_counter()
-    e.controls["chapter"].value = "all"
-    assert time.perf_counter() - t < 0.25
+    e.controls["chapter"].value = "all"     # back to all chapters: the query matches again
+    assert not e.html.value.startswith("<p>0 of") and "önkalibráció" in e.html.value
 
 
 def test_counts_cover_all_terms():

@@ -19,7 +19,7 @@ matplotlib.use("Agg")
 
 from photolib.nb import measurement as nm  # noqa: E402
 
-from .explorer_checks import assert_explorer_widget, fastest_update, moves  # noqa: E402
+from .explorer_checks import assert_explorer_widget, moves  # noqa: E402
 
 
 pytestmark = pytest.mark.usefixtures("close_figures")
@@ -103,13 +103,11 @@ def test_plot_log_profile_zero_at_sqrt2_sigma():
     (nm.EllipseExplorer, "arc_deg", 60.0, 360.0),
     (nm.LSMExplorer, "offset", 0.5, 6.0),
 ])
-def test_explorers_redraw_fast(cls, name, a, b):
+def test_explorers_redraw(cls, name, a, b):
     ex = cls()
     assert_explorer_widget(ex, ex.title)
     ex.controls[name].value = a
     assert moves(ex, name, b) == (True, True)
-    # the budget of an update (the fastest: robust to a busy machine)
-    assert fastest_update(ex, name, [float(v) for v in np.linspace(a, b, 6)]) < 0.05
 
 
 def test_explorer_reports_match_the_functions():

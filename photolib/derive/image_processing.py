@@ -30,14 +30,19 @@ p1, p2, sig, s_bar = sp.symbols("p1 p2 sigma_bar s_bar", real=True)
 h1, h2 = sp.symbols("h1 h2", real=True)
 
 
-def gaussian_2d():
-    """Normalised 2-D Gaussian (integral 1 over the plane)."""
-    return sp.exp(-(xg**2 + yg**2) / (2 * sigma**2)) / (2 * sp.pi * sigma**2)
+def gaussian_2d(amplitude=None):
+    """2-D Gaussian ``K·exp(−(x² + y²)/(2σ²))``; by default normalised, K = 1/(2πσ²).
+
+    The normalised Gaussian has integral 1 over the plane; any other ``amplitude`` K (a
+    number or a symbol) scales it.
+    """
+    K = 1 / (2 * sp.pi * sigma**2) if amplitude is None else amplitude
+    return K * sp.exp(-(xg**2 + yg**2) / (2 * sigma**2))
 
 
-def log_radial():
-    """``∇²G`` written as a function of the radius r."""
-    G = gaussian_2d()
+def log_radial(amplitude=None):
+    """``∇²G`` written as a function of the radius r (G of :func:`gaussian_2d`)."""
+    G = gaussian_2d(amplitude)
     lap = sp.diff(G, xg, 2) + sp.diff(G, yg, 2)
     on_axis = sp.simplify(lap.subs({xg: r, yg: 0}))
     # ∇²G is rotation invariant (function of x² + y²): check before using the x axis

@@ -85,6 +85,21 @@ def _ev41(which: str) -> Evidence:
                     f"u = n − r per column: {us[which]}", table=rows)
 
 
+OLD_476 = ("right-under-condition: κ_i = κ (the left side R_i(ω, φ, κ) names κ, so A_i must "
+           "take the same κ); the product is a rotation with either argument")
+
+
+def _ev476(which: str) -> Evidence:
+    """4.76: the product is a rotation; the arguments of A_i must match the left side."""
+    if not dlt.composed_rotation_is_rotation():
+        return Evidence("wrong", "R(ξ, η, ζ)·A(ω, φ, κ) is not a rotation")
+    detail = "R(ξ, η, ζ)·A(ω, φ, κ) is orthonormal with det 1 (30 digits)"
+    if which == "corrected":
+        return Evidence("right", detail + "; A_i takes the κ of R_i(ω, φ, κ)")
+    return Evidence(OLD_476, detail + "; A_i(ω, φ, κ_i) depends on κ_i, which the left side "
+                    "does not name")
+
+
 def records():
     r = []
     r.append(formula(
@@ -135,15 +150,12 @@ def records():
     r.append(Record(
         id="luhmann:4.76", source=SRC + ", p. 290, formula 4.76", item="rotation of a bundle",
         kind="formula",
-        specs={"old": VersionSpec("not-checkable: only the argument list differs (κ_i versus "
-                                  "κ); a definition, not a derivable identity", claim="wrong"),
-               "corrected": VersionSpec(
-                   "right", claim="right",
-                   check=lambda: Evidence("right" if dlt.composed_rotation_is_rotation() else
-                                          "wrong", "R(ξ, η, ζ)·A(ω, φ, κ) is orthonormal "
-                                          "with det 1 (30 digits)"))},
+        specs={"old": VersionSpec(OLD_476, claim="wrong", check=lambda: _ev476("old")),
+               "corrected": VersionSpec("right", claim="right",
+                                        check=lambda: _ev476("corrected"))},
         note="R_i = R(ξ,η,ζ)·A_i is a composition of rotations; the check confirms it is a "
-             "rotation. Whether A_i takes κ or κ_i is notation."))
+             "rotation whichever κ A_i takes. The two prints differ in notation only: the "
+             "old one is right once κ_i denotes the κ of the left side."))
     r.append(Record(
         id="luhmann:example-4.8", source=SRC + ", p. 298, example 4.8",
         item="stereo normal case: Z from parallax", kind="example",

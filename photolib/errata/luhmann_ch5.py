@@ -32,20 +32,41 @@ def _lsm(old: bool):
     return r0 + r1 * G + r1 * geo + dr0 + dr1 * G
 
 
+def _taylor_gradient():
+    """(∂g/∂x', ∂g/∂y') as they appear in 5.72: coefficients of da0 and db0 over r1."""
+    lin = ip.lsm_linearised()
+    return sp.Matrix([sp.cancel(lin.coeff(da[0]) / r1), sp.cancel(lin.coeff(db[0]) / r1)])
+
+
+OLD_572 = ("right-under-condition: r0 = 0, r1 = 1 (the radiometric start values) and, "
+           "because the old 5.73 defines g_x, g_y by the template coordinates (x, y), "
+           "a1 = b2 = 1, a2 = b1 = 0 (see luhmann:5.73): the first iteration")
+
+
 def records():
     rr = []
     e = sp.exp(-r**2 / (2 * sigma**2))
+    K = sp.Symbol("K", positive=True)   # amplitude of the Gaussian; 5.41 is not in the list
+    norm = {K: 1 / (2 * sp.pi * sigma**2)}
     rr.append(formula(
         "luhmann:5.42", SRC + ", p. 413, formula 5.42", "Laplacian of Gaussian",
         {"old": VersionSpec("wrong", expr=lambda: -(1 - r / sigma**2) * e, claim="wrong"),
-         "corrected": VersionSpec("right", expr=lambda: -(1 - r**2 / (2 * sigma**2)) * e
-                                  / (sp.pi * sigma**4), claim="right")},
-        derivation=ip.log_radial,
-        steps=("G = exp(−(x² + y²)/(2σ²))/(2πσ²) (normalised)",
+         "corrected": VersionSpec(
+             "right-under-condition: G normalised, G = exp(−r²/(2σ²))/(2πσ²) (the Gaussian "
+             "5.41 is not in the errata list; for G = exp(−r²/(2σ²)) the print is 2πσ² times "
+             "too small)", expr=lambda: -(1 - r**2 / (2 * sigma**2)) * e / (sp.pi * sigma**4),
+             condition=norm, claim="right",
+             condition_text="G normalised, G = exp(−r²/(2σ²))/(2πσ²) (the Gaussian 5.41 is not "
+                            "in the errata list; for G = exp(−r²/(2σ²)) the print is 2πσ² times "
+                            "too small)")},
+        derivation=lambda: ip.log_radial(K),
+        steps=("G = K·exp(−(x² + y²)/(2σ²)), K the amplitude (normalised: K = 1/(2πσ²))",
                "∇²G = ∂²G/∂x² + ∂²G/∂y², written in r (rotation invariant)",
-               "= −(1 − r²/(2σ²))·exp(−r²/(2σ²))/(πσ⁴)"),
+               "= K·(r² − 2σ²)·exp(−r²/(2σ²))/σ⁴; with K = 1/(2πσ²): "
+               "−(1 − r²/(2σ²))·exp(−r²/(2σ²))/(πσ⁴)"),
         note="The old print has r instead of r²/2 and no normalisation; even up to a factor "
-             "its zero crossing (r = σ²) is wrong (r = √2·σ)."))
+             "its zero crossing (r = σ²) is wrong (r = √2·σ). The corrected print holds for the "
+             "normalised Gaussian only."))
     h1_old = m1 - sig * sp.sqrt(p2 / p1)
     rr.append(formula(
         "luhmann:5.49-h1", SRC + ", p. 420, formula 5.49 (old print)", "moment-preserving "
@@ -96,30 +117,36 @@ def records():
     rr.append(formula(
         "luhmann:5.72", SRC + ", p. 442, formula 5.72", "least-squares matching: "
         "linearised observation equation",
-        {"old": VersionSpec("right-under-condition: r0 = 0, r1 = 1 (the radiometric start "
-                            "values, first iteration)", expr=lambda: _lsm(True),
-                            condition={r0: 0, r1: 1}, claim="wrong",
-                            condition_text="r0 = 0, r1 = 1 (the radiometric start values, "
-                                           "first iteration)"),
+        {"old": VersionSpec(OLD_572, expr=lambda: _lsm(True), condition={r0: 0, r1: 1},
+                            claim="wrong", condition_text=OLD_572[len("right-under-condition: "):]),
          "corrected": VersionSpec("right", expr=lambda: _lsm(False), claim="right")},
         derivation=ip.lsm_linearised,
         steps=("f − e = (r0 + dr0) + (r1 + dr1)·g(x' + dx', y' + dy')",
                "dx' = da0 + x·da1 + y·da2, dy' = db0 + x·db1 + y·db2",
                "first-order Taylor term (SymPy diff at t = 0 along all increments)"),
-        note="The old print drops r0 and the factor r1: right only while r0 = 0, r1 = 1."))
+        note="The old print drops r0 and the factor r1: right only while r0 = 0, r1 = 1. "
+             "The symbolic check reads g_x, g_y as ∂g/∂x', ∂g/∂y'; the old print's own "
+             "definition (old 5.73, by x and y) agrees with that only for a pure shift, "
+             "so the old print holds in the first iteration only."))
     rr.append(formula(
         "luhmann:5.73", SRC + ", p. 442, formula 5.73", "least-squares matching: gradients",
         {"old": VersionSpec("right-under-condition: a1 = b2 = 1, a2 = b1 = 0 (pure shift, the "
                             "start values)", expr=lambda: sp.Matrix([Gx, Gy]),
                             condition={a[1]: 1, b[2]: 1, a[2]: 0, b[1]: 0}, claim="wrong",
                             condition_text="a1 = b2 = 1, a2 = b1 = 0 (pure shift, the start "
-                                           "values)")},
+                                           "values)"),
+         "corrected": VersionSpec("right", expr=lambda: sp.Matrix([Gx, Gy]), claim="right",
+                                  target=_taylor_gradient)},
         derivation=lambda: sp.Matrix(ip.template_gradient_chain()),
         steps=("g∘(x'(x, y), y'(x, y)) differentiated by x and y with the chain rule (SymPy)",
-               "∂/∂x = g_x'·a1 + g_y'·b1, ∂/∂y = g_x'·a2 + g_y'·b2"),
-        note="The corrected print defines g_x' = ∂g/∂x' (by the search coordinates), which is "
-             "the symbol the derivation uses: right by definition. The old g_x = ∂g⁰/∂x (by the "
-             "template coordinates) equals it only for an unsheared, unscaled patch."))
+               "∂/∂x = g_x'·a1 + g_y'·b1, ∂/∂y = g_x'·a2 + g_y'·b2",
+               "corrected: the gradient in the Taylor expansion of 5.72 is the coefficient of "
+               "da0, db0 divided by r1, i.e. (∂g/∂x', ∂g/∂y')"),
+        note="The corrected print defines g_x' = ∂g/∂x' (by the search coordinates): the "
+             "gradient that the linearisation of 5.72 produces (coefficients of da0, db0 over "
+             "r1). The old g_x = ∂g⁰/∂x (by the template coordinates) equals it only for an "
+             "unsheared, unscaled patch. The corrected 5.72 still writes g_x, g_y for what the "
+             "corrected 5.73 calls g_x', g_y'."))
     rr.append(figure("luhmann:p425-figure-ref", SRC + ", p. 425", "reference Abb. 5.4 → "
                      "Abb. 5.51", "a figure reference", claim="right"))
     rr.append(figure("luhmann:fig-8.67b", SRC + ", p. 611, Abb. 8.67b", "copyright note",

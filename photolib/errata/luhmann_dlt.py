@@ -126,7 +126,8 @@ def records():
                "ω = atan2(−r23, r33), φ = asin r13, κ = atan2(−r12, r11)",
                "tolerance: rounding of the printed L (±0.5e-6) propagated, plus half a digit"),
         note="From the printed L: x'0 = +3.829 mm and y'0 = −4.098 mm (printed −3.7708 and "
-             "+3.8404: opposite sign, and the sizes differ slightly more than the rounding of "
-             "L allows). c_x, c_y, X0, R and ω, φ, κ agree within the rounding of L. The DLT R "
+             "+3.8404): opposite signs, and |y'0| is 0.26 mm off where the rounding of L moves "
+             "it by at most ±0.05 mm (|x'0|: 0.058 mm off, ±0.046 mm). c_x, c_y, X0, R and "
+             "ω, φ, κ agree within the rounding of L. The DLT R "
              "is not orthogonal (r1·r2 ≈ 0.0137): the DLT has a shear parameter."))
     return r

@@ -1,6 +1,7 @@
 """CLI of the errata catalogue and the notebook widget callback."""
 
 import json
+import math
 import subprocess
 import sys
 
@@ -53,8 +54,12 @@ def test_module_entry_point_id():
 
 
 def test_widget_callback_and_builder():
-    vals = widgets.evaluate_versions("luhmann:5.42", {"r": 1.0, "sigma": 1.0})
+    normalised = 1 / (2 * math.pi)                               # K = 1/(2πσ²) at σ = 1
+    vals = widgets.evaluate_versions("luhmann:5.42", {"r": 1.0, "sigma": 1.0, "K": normalised})
     assert vals["corrected"] == pytest.approx(vals["derived"], rel=1e-12)
+    # without the normalisation (K = 1) the print is 2πσ² times too small
+    unit = widgets.evaluate_versions("luhmann:5.42", {"r": 1.0, "sigma": 1.0, "K": 1.0})
+    assert unit["derived"] == pytest.approx(2 * math.pi * unit["corrected"], rel=1e-12)
     assert vals["old"] == pytest.approx(0.0, abs=1e-15)      # old zero crossing at r = σ²
     with pytest.raises(ValueError, match="no value"):
         widgets.evaluate_versions("luhmann:5.42", {"r": 1.0})
