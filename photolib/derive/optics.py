@@ -265,3 +265,50 @@ def pinhole_optimum():
     """Diameter minimising :func:`pinhole_blur`: ``d* = √(2.44 λ c)``."""
     sol = sp.solve(sp.diff(pinhole_blur(), d_pin), d_pin)
     return sol[0]
+
+
+# -- chromatic aberration through a stop, camera constant at a finite distance -----------------
+f_lam, s_stop, rho = sp.symbols("f_lambda s_stop rho", positive=True)
+f_1, f_2 = sp.symbols("f_1 f_2", positive=True)
+
+
+def bundle_height(f_w=f_lam, rho_=rho):
+    """Height in the image plane at a' of the ray of a parallel bundle at field angle τ.
+
+    The ray passes the stop (distance ``s_stop`` in front of a thin lens of focal length
+    ``f_w`` for its wavelength) at height ρ, meets the lens at ``ρ + s·tan τ``, leaves it
+    with slope ``tan τ − h/f_w`` and reaches the plane at a': ``h(1 − a'/f_w) + a'·tan τ``.
+    """
+    h = rho_ + s_stop * sp.tan(tau)
+    return sp.expand(h * (1 - ap / f_w) + ap * sp.tan(tau))
+
+
+def colour_spot(f_w=f_lam):
+    """``(centre, diameter)`` of the spot of one wavelength in the plane at a'.
+
+    The marginal rays pass the stop at ρ = ±d/2 with ``d = f/k``; the centre is the chief
+    ray (ρ = 0, through the middle of the stop), the diameter ``d·|1 − a'/f_w|``.
+
+    >>> colour_spot()[1]
+    f*Abs(a_p - f_lambda)/(f_lambda*k)
+    """
+    d = f / k
+    top, bottom = bundle_height(f_w, d / 2), bundle_height(f_w, -d / 2)
+    centre = sp.expand((top + bottom) / 2)
+    return centre, sp.factor(sp.Abs(sp.factor(top - bottom)))
+
+
+def chromatic_errors():
+    """``(longitudinal blur of wavelength 2, lateral shift)`` for two wavelengths f_1, f_2.
+
+    The image plane is focused for wavelength 1 (a' = f_1, object at infinity): the second
+    wavelength is blurred by ``(f/k)·|1 − f_1/f_2|`` (the longitudinal error, Längsfehler),
+    and the centres of the two spots are apart by ``s·tan τ·(f_2 − f_1)/f_2`` (the lateral
+    error, Querfehler), which has no k in it (and vanishes with the stop at the lens, s = 0).
+
+    >>> chromatic_errors()
+    (f*Abs(f_1 - f_2)/(f_2*k), -s_stop*(f_1 - f_2)*tan(tau)/f_2)
+    """
+    c1, _ = colour_spot(f_1)
+    c2, blur2 = colour_spot(f_2)
+    return sp.factor(blur2.subs(ap, f_1)), sp.factor((c2 - c1).subs(ap, f_1))

@@ -174,3 +174,112 @@ def cross_ratio_invariance(expr_of_points):
     before = expr_of_points(*t_line)
     after = expr_of_points(*(line_projectivity(t) for t in t_line))
     return sp.cancel(after - before)
+
+
+# ------------------------------------------------- fiducial centre, orientation, affine forms
+#: four fiducial marks F1..F4 in order round the frame (F1–F3 and F2–F4 opposite)
+FID = sp.symbols("F1x F1y F2x F2y F3x F3y F4x F4y", real=True)
+s_x, s_y = sp.symbols("s_x s_y", positive=True)
+
+
+def fiducial_points(values=FID):
+    """The four marks as column vectors from eight coordinates (default: the symbols FID)."""
+    return [sp.Matrix(values[i:i + 2]) for i in range(0, 8, 2)]
+
+
+def fiducial_centre(values=FID) -> sp.Matrix:
+    """Intersection of the lines F1F3 and F2F4 joining opposite fiducials (solved).
+
+    >>> fiducial_centre((0, -100, 100, 0, 0, 110, -100, 0)).T
+    Matrix([[0, 0]])
+    """
+    p1, p2, p3, p4 = fiducial_points(values)
+    u, v = sp.symbols("u v", real=True)
+    sol = sp.solve(list(p1 + u * (p3 - p1) - p2 - v * (p4 - p2)), [u, v], dict=True)[0]
+    return (p1 + sol[u] * (p3 - p1)).applyfunc(sp.cancel)
+
+
+def fiducial_mean(values=FID) -> sp.Matrix:
+    """Arithmetic mean of the four fiducial coordinates.
+
+    >>> fiducial_mean((0, -100, 100, 0, 0, 110, -100, 0)).T
+    Matrix([[0, 5/2]])
+    """
+    return sum(fiducial_points(values), sp.zeros(2, 1)) / 4
+
+
+def parallelogram_condition() -> dict:
+    """``F4 = F1 + F3 − F2``: the marks form a parallelogram (the diagonals bisect each other)."""
+    return {FID[6]: FID[0] + FID[4] - FID[2], FID[7]: FID[1] + FID[5] - FID[3]}
+
+
+def homography_from_orientation(R=None) -> sp.Matrix:
+    """3×3 H with ``(X, Y, 1) ∝ H·(x', y', 1)`` for the ground plane Z = 0.
+
+    The ray of the collinearity equations ``X = X0 + λ·R·(x' − x'0, y' − y'0, −c)`` meets
+    Z = 0 at ``λ = −Z0/(R·x*)_z``, so ``X·(R·x*)_z = X0·(R·x*)_z − Z0·(R·x*)_x``: linear in
+    ``(x', y', 1)`` over linear — a homography ``H = T·R·K`` with
+    ``K = [[1, 0, −x'0], [0, 1, −y'0], [0, 0, −c]]``, ``T = [[−Z0, 0, X0], [0, −Z0, Y0], [0, 0, 1]]``.
+    R defaults to ``R_ω·R_φ·R_κ``.
+    """
+    from photolib.derive import collinearity as col
+    from photolib.derive.rotation import rotation_opk
+    R = rotation_opk() if R is None else R
+    Kmat = sp.Matrix([[1, 0, -col.x0], [0, 1, -col.y0], [0, 0, -col.c]])
+    T = sp.Matrix([[-col.Z0, 0, col.X0], [0, -col.Z0, col.Y0], [0, 0, 1]])
+    return T * R * Kmat
+
+
+def homography_ray_residual() -> sp.Matrix:
+    """Ground point of the ray minus the homography's, for a general matrix R: identically 0.
+
+    >>> homography_ray_residual()
+    Matrix([
+    [0],
+    [0]])
+    """
+    from photolib.derive import collinearity as col
+    R = col.rotation_symbols()
+    xstar = sp.Matrix([x - col.x0, y - col.y0, -col.c])
+    d = R * xstar
+    lam = -col.Z0 / d[2]
+    ground = sp.Matrix([col.X0 + lam * d[0], col.Y0 + lam * d[1]])
+    h = homography_from_orientation(R) * sp.Matrix([x, y, 1])
+    return (ground - sp.Matrix([h[0] / h[2], h[1] / h[2]])).applyfunc(sp.cancel)
+
+
+def homography_orientation_rank():
+    """Rank of the 8 normalised homography coefficients w.r.t. the 9 orientation elements.
+
+    Elements ``(X0, Y0, Z0, ω, φ, κ, c, x'0, y'0)`` at a generic pose; singular values with
+    mpmath at 30 digits (below 1e-20 counts as zero). Returns ``(rank, 9, singular values)``.
+    """
+    import mpmath
+
+    from photolib.derive import collinearity as col
+    from photolib.derive.rotation import kappa, omega, phi
+    H = homography_from_orientation()
+    coeffs = [H[i] / H[8] for i in range(8)]
+    params = [col.X0, col.Y0, col.Z0, omega, phi, kappa, col.c, col.x0, col.y0]
+    J = sp.Matrix(coeffs).jacobian(params)
+    pose = {col.X0: sp.Rational(1, 2), col.Y0: sp.Rational(-1, 3), col.Z0: 10,
+            omega: sp.Rational(1, 10), phi: sp.Rational(-1, 5), kappa: sp.Rational(3, 10),
+            col.c: sp.Rational(3, 20), col.x0: sp.Rational(1, 100), col.y0: sp.Rational(-1, 50)}
+    M = J.subs(pose)
+    with mpmath.workdps(30):
+        A = mpmath.matrix([[mpmath.mpf(str(sp.N(e, 35))) for e in M.row(i)]
+                           for i in range(M.rows)])
+        sv = list(mpmath.svd_r(A, compute_uv=False))
+    return sum(1 for s in sv if abs(s) > 1e-20), len(params), sv
+
+
+def scale_rotation_affine(order: str = "scale-first") -> sp.Matrix:
+    """A conformal transformation with two scales: ``R(θ)·diag(s_x, s_y)·(x_s, y_s) + t``.
+
+    ``order="rotate-first"`` gives ``diag(s_x, s_y)·R(θ)·(x_s, y_s) + t``. Five parameters
+    (two scales, a rotation, two shifts); the general :func:`affine` has six.
+    """
+    D = sp.diag(s_x, s_y)
+    R = rotation_2d(theta)
+    A = R * D if order == "scale-first" else D * R
+    return A * sp.Matrix([xs, ys]) + sp.Matrix(sp.symbols("t_x t_y", real=True))

@@ -17,6 +17,8 @@
   condition and the object at infinity ``sin u' = d/(2f)``, so the charge of a pixel of
   area A_px in the time t is ``Q = L·(π d²/4)·A_px·t/f²``: the pupil area times the time.
 * Dynamic range: the largest signal over the noise floor, ``FW/σ_r``.
+* Image pyramid: every level halves the rows and the columns, so level i has ``4^−i`` of
+  the pixels; the levels 1…n together add ``Σ 4^−i = (1 − 4^−n)/3`` (→ 1/3) of the image.
 
 Keep it small: every function here takes well under a second (no unbounded ``simplify``).
 
@@ -42,7 +44,8 @@ from photolib.derive.rotation import kappa, omega, phi, rotation_opk
 __all__ = ["A_px", "FW", "H", "K", "L", "bayer_fractions", "bits", "c", "charge_at_max_dn",
            "d", "d_ref", "dynamic_range", "eta", "exposure", "exposure_ratio", "f",
            "fill_fraction", "g", "gsd_vertical", "kappa", "object_accuracy", "omega", "p",
-           "phi", "photons_per_grey_level", "pixel_ground_area", "quantisation_variance",
+           "phi", "photons_per_grey_level", "pixel_ground_area", "pyramid_overhead",
+           "quantisation_variance",
            "sigma_img", "sigma_r", "t", "t_ref", "x", "y"]
 
 p, c, H = sp.symbols("p c H", positive=True)          # pixel pitch, camera constant, height
@@ -146,3 +149,18 @@ def fill_fraction():
 def object_accuracy(sigma_image=sigma_img, scale_number=m_b):
     """Object-space precision of an image measurement: ``σ_X = m_b·σ'`` (the image scale)."""
     return scale_number * sigma_image
+
+
+def pyramid_overhead(levels=None):
+    """Extra storage of an image pyramid (each level halves rows and columns): ``Σ 4^−i``.
+
+    Summed by SymPy over the levels 1…n (``levels=None``: all levels, n → ∞).
+
+    >>> pyramid_overhead()
+    1/3
+    >>> pyramid_overhead(3)
+    21/64
+    """
+    i = sp.Symbol("i", integer=True, positive=True)
+    n = sp.oo if levels is None else levels
+    return sp.summation(sp.Rational(1, 4) ** i, (i, 1, n))

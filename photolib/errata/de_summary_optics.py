@@ -1,4 +1,5 @@
-"""German lecture summary (000_*): optics — refraction, lens, angles, depth of field, cos⁴.
+"""German lecture summary (000_*): optics — refraction, lens, angles, depth of field, cos⁴,
+chromatic aberration and the stop, the permissible blur u' = s'/1500.
 
 Symbols: ``a`` focus distance, ``a_p`` image distance a', ``a_v``/``a_h`` near/far limit,
 ``u_p`` blur diameter u', ``k`` f-number, ``m_b`` image scale number, ``s_p`` format s',
@@ -119,6 +120,12 @@ def records():
         note="The printed form is right if m_b is the magnification β = 1/m_b (image scale "
              "M_b), not the scale number the summary names (it also says "
              "'Blendenmaßstabszahl'). With the scale number t shrinks with distance."))
+    out.append(Record(
+        id="de-summary:circle-of-confusion", source=SRC + ", 'Schärfentiefe', line 135",
+        item="u' = Zerstreuungskreis = s'/1500", kind="text",
+        specs={"printed": VersionSpec(COC, check=_coc, claim="right")},
+        note="A rule for the tolerated blur, not a law: other rules use s'/1000 or s'/1730 "
+             "(Zeiss); the depth of field scales with the value chosen."))
     out.append(formula(
         "de-summary:vignetting-cos4", SRC + ", 'Lichtabfall'", "E(τ) = E·cos⁴τ",
         {"printed": VersionSpec("right-under-condition: natural vignetting of a small aperture "
@@ -132,6 +139,21 @@ def records():
                                     else "wrong", "cos² (distance) · cos (aperture) · cos "
                                     "(incidence) = cos⁴"), claim="right")},
         derivation=o.relative_irradiance))
+    out.append(Record(
+        id="de-summary:aperture-longitudinal-colour", source=SRC + ", 'Einfluss der Blende', "
+        "line 142", item="the stop 'kann chromatische Längsfehler verringern'", kind="text",
+        specs={"printed": VersionSpec("right", check=_longitudinal, claim="right")},
+        derivation=lambda: o.chromatic_errors()[0], steps=CHROM_STEPS))
+    out.append(Record(
+        id="de-summary:chromatic-aperture", source=SRC + ", 'Chromatische Abberation', line 159",
+        item="'Hohe Blende stellt Strahlen stärker parallel > Verringerung des Effekts'",
+        kind="text",
+        specs={"printed": VersionSpec(f"right-under-condition: {CHROM}", check=_chromatic,
+                                      claim="right")},
+        derivation=o.chromatic_errors, steps=CHROM_STEPS,
+        note="The summary itself goes on to distinguish Längs- and Querfehler (lines 164–166); "
+             "stopping down shrinks every colour's blur but leaves the colour fringes of the "
+             "lateral error where they are."))
     out.append(formula(
         "de-summary:image-radius", SRC + ", 'Reale Optische Abbildung'", "r' = c·tan τ + Δr'",
         {"printed": VersionSpec("right", expr=lambda: o.c_cam * sp.tan(o.tau)
@@ -140,3 +162,66 @@ def records():
         note="Ideal radius c·tan τ (pinhole at O', τ = τ'), Δr' = distorted − ideal: a "
              "definition consistent with the course's sign."))
     return out
+
+
+COC = ("not-checkable: a convention for the tolerated blur: s'/1500 seen from a distance equal "
+       "to the format s' subtends 1/1500 rad = 2.29′, a chosen tolerance of the eye, not a "
+       "consequence of a formula")
+
+
+def _coc() -> Evidence:
+    import mpmath
+    arcmin = float(mpmath.degrees(mpmath.mpf(1) / 1500) * 60)
+    text = f"1/1500 rad = {arcmin:.2f}′"
+    if text not in COC:
+        return Evidence("wrong", f"conversion in the verdict text is off: {text}")
+    return Evidence(COC, text + "; the rule fixes u', nothing in it can be derived")
+
+
+CHROM = ("the longitudinal colour error (Längsfehler): the blur of a wavelength focused "
+         "elsewhere is (f/k)·|1 − f_1/f_2|, smaller at a higher f-number k; the lateral error "
+         "(Querfehler, the colour fringes) is the shift s·tan τ·(f_2 − f_1)/f_2 of the chief "
+         "ray through the middle of the stop, which k does not change")
+CHROM_STEPS = (
+    "thin lens, focal length f_λ per wavelength, stop of diameter d = f/k at s in front",
+    "ray of a parallel bundle at field angle τ through the stop at height ρ: height "
+    "(ρ + s·tan τ)(1 − a'/f_λ) + a'·tan τ in the image plane at a'",
+    "plane focused for f_1 (a' = f_1): wavelength 2 has blur d·|1 − f_1/f_2| (ρ = ±d/2)",
+    "spot centres (ρ = 0, chief ray) of the two wavelengths: apart by s·tan τ·(f_2 − f_1)/f_2, "
+    "no d in it")
+#: a 50 mm lens, f_2 − f_1 = 0.25 mm, stop 10 mm in front, field angle 20°
+CHROM_CASE = {o.f: 50, o.f_1: 50, o.f_2: sp.Rational(201, 4), o.s_stop: 10,
+              o.tau: sp.pi / 9}
+
+
+def _chromatic_rows():
+    blur, lateral = o.chromatic_errors()
+    rows = []
+    for kk in (2, 8):
+        at = {**CHROM_CASE, o.k: kk}
+        rows.append((f"longitudinal blur at k = {kk} (µm)", None,
+                     float(sp.N(blur.subs(at))) * 1000, None, True))
+        rows.append((f"lateral shift at k = {kk} (µm)", None,
+                     float(sp.N(lateral.subs(at))) * 1000, None, True))
+    return blur, lateral, rows
+
+
+def _longitudinal() -> Evidence:
+    blur, _, rows = _chromatic_rows()
+    falls = sp.simplify(sp.diff(blur, o.k) * o.k / blur) == -1
+    if falls:
+        return Evidence("right", "blur (f/k)·|1 − f_1/f_2| ∝ 1/k: stopping down (higher k) "
+                        "shrinks it, 4× from k = 2 to k = 8", table=rows[::2])
+    return Evidence("wrong", f"blur {blur} does not fall with k", table=rows)
+
+
+def _chromatic() -> Evidence:
+    blur, lateral, rows = _chromatic_rows()
+    falls = sp.simplify(sp.diff(blur, o.k) * o.k / blur) == -1
+    fixed = sp.diff(lateral, o.k) == 0 and lateral.subs(CHROM_CASE) != 0
+    if falls and fixed:
+        return Evidence(f"right-under-condition: {CHROM}", f"longitudinal blur {blur} ∝ 1/k; "
+                        f"lateral shift {lateral}: ∂/∂k = 0 (zero only with the stop at the "
+                        "lens, s = 0)", table=rows)
+    return Evidence("wrong" if not falls else "right", f"blur {blur}, lateral {lateral}",
+                    table=rows)
