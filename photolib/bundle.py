@@ -39,7 +39,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from photolib._validate import as_scalar, check_finite
+from photolib._validate import (
+    as_indices,
+    as_int,
+    as_max_iter,
+    as_points,
+    as_scalar,
+    as_tolerance,
+    check_finite,
+)
 from photolib._generated.collinearity import collinearity_jacobian_opk, project_r
 from photolib.collinearity import PointBehindCameraError, project  # noqa: F401  (doctest)
 from photolib.distortion import Distortion
@@ -161,6 +169,34 @@ def _betainc(a: float, b: float, x: float, y: float) -> float:
     return front * (f - 1.0)
 
 
+def _as_dof(dof) -> float:
+    """Degrees of freedom: a real number > 0, ``inf`` allowed (the normal distribution)."""
+    if isinstance(dof, (str, bytes, bool, np.bool_)) or getattr(
+            getattr(dof, "dtype", None), "kind", "") == "c":
+        raise ValueError(f"dof must be a real number > 0 (inf: normal), got {dof!r}")
+    try:
+        v = float(dof)
+    except (TypeError, ValueError):
+        raise ValueError(f"dof must be a real number > 0 (inf: normal), got {dof!r}") from None
+    if not v > 0:
+        raise ValueError(f"dof must be > 0, got {dof!r}")
+    return v
+
+
+def _upper_tail(t: float, nu: float) -> float:
+    """``P(T_ν > t)`` for t ≥ 0, computed as the tail itself (not 1 − cdf, which loses every
+    digit once the tail is below the rounding of 1, about 1e-16)."""
+    if math.isinf(nu):
+        return 0.5 * math.erfc(t / math.sqrt(2.0))
+    a, t2 = nu / 2.0, t * t
+    if math.isfinite(t2) and nu / (nu + t2) > 1e-300:
+        return 0.5 * _betainc(a, 0.5, nu / (nu + t2), t2 / (nu + t2))
+    # t beyond ~1e150: x = ν/t² underflows; I_x(a, ½) = x^a·Γ(a + ½)/(Γ(a)Γ(½)·a)·(1 + O(x))
+    log_x = math.log(nu) - 2.0 * math.log(t)
+    return 0.5 * math.exp(math.lgamma(a + 0.5) - math.lgamma(a) - math.lgamma(0.5)
+                          + a * log_x) / a
+
+
 def student_t_cdf(t: float, dof: float) -> float:
     r"""CDF of Student's t with ``dof`` degrees of freedom (``dof = inf``: normal).
 
@@ -170,8 +206,7 @@ def student_t_cdf(t: float, dof: float) -> float:
     (0.94903, 0.5)
     """
     t = as_scalar(t, "t")
-    if not dof > 0:
-        raise ValueError(f"dof must be > 0, got {dof!r}")
+    dof = _as_dof(dof)
     if math.isinf(dof):
         return 0.5 * math.erfc(-t / math.sqrt(2.0))
     tail = 0.5 * _betainc(dof / 2.0, 0.5, dof / (dof + t * t), t * t / (dof + t * t))
@@ -194,8 +229,14 @@ def critical_value(alpha: float, test: str = "normal", dof: float = math.inf) ->
     --------
     >>> round(critical_value(0.001), 4), round(critical_value(0.05, "t", 5), 4)
     (3.2905, 2.5706)
+
+    The root is found on the upper tail ``P(T > k) = alpha/2`` itself, so tiny levels keep
+    their digits:
+
+    >>> round(critical_value(1e-20), 4)
+    9.336
     """
-    return _critical_value(as_scalar(alpha, "alpha"), str(test), float(dof))
+    return _critical_value(as_scalar(alpha, "alpha"), str(test), _as_dof(dof))
 
 
 @functools.lru_cache(maxsize=256)
@@ -211,14 +252,14 @@ def _critical_value(alpha: float, test: str, dof: float) -> float:
     if test not in ("normal", "t"):
         raise ValueError(f"test must be 'normal', 't' or 'tau', got {test!r}")
     nu = math.inf if test == "normal" else float(dof)
-    lo, hi, target = 0.0, 1.0, 1.0 - alpha / 2.0
-    while student_t_cdf(hi, nu) < target:
+    lo, hi, target = 0.0, 1.0, alpha / 2.0
+    while _upper_tail(hi, nu) > target:
         hi *= 2.0
     for _ in range(200):  # bisection to the last bit
         mid = 0.5 * (lo + hi)
         if mid in (lo, hi):
             break
-        lo, hi = (mid, hi) if student_t_cdf(mid, nu) < target else (lo, mid)
+        lo, hi = (mid, hi) if _upper_tail(mid, nu) > target else (lo, mid)
     return 0.5 * (lo + hi)
 
 
@@ -260,9 +301,9 @@ def inner_constraints(points) -> np.ndarray:
     >>> inner_constraints([[1.0, 0, 0], [-1.0, 0, 0]]).shape
     (6, 7)
     """
-    P = np.asarray(points, float)
-    if P.ndim != 2 or P.shape[1] != 3:
-        raise ValueError(f"points has shape {P.shape}; expected (P, 3)")
+    P, single = as_points(points, 3, "points")  # finite: NaN would spread into every row
+    if single:
+        raise ValueError(f"points has shape {np.shape(points)}; expected (P, 3)")
     Xc = P - P.mean(axis=0)
     x, y, z = Xc.T
     o, one = np.zeros(len(P)), np.ones(len(P))
@@ -281,8 +322,14 @@ def normal_matrix_pattern(image_index, point_index, n_images: int, n_points: int
     >>> normal_matrix_pattern([0, 1], [0, 0], 2, 1).shape
     (15, 15)
     """
-    j, i = np.asarray(image_index, int), np.asarray(point_index, int)
-    free = np.setdiff1d(np.arange(n_points), np.asarray(fixed, int))
+    n_images, n_points = as_int(n_images, "n_images", minimum=1), as_int(n_points, "n_points",
+                                                                           minimum=0)
+    j = as_indices(image_index, "image_index", n_images)
+    i = as_indices(point_index, "point_index", n_points)
+    if j.shape != i.shape:
+        raise ValueError(f"image_index has shape {j.shape} but point_index {i.shape}; they must "
+                         "pair up")
+    free = np.setdiff1d(np.arange(n_points), as_indices(fixed, "fixed", n_points))
     inc = np.zeros((n_images, n_points), bool)  # incidence: image sees point
     inc[j, i] = True
     inc = inc[:, free]
@@ -325,25 +372,37 @@ def _check_inputs(xy, image_index, point_index, exterior, points, control):
         raise ValueError(f"points has shape {pts.shape}; expected (P, 3)")
     check_finite(ext, "exterior")
     check_finite(pts, "points")
-    j, i = idx
-    for name, a, m in (("image_index", j, len(ext)), ("point_index", i, len(pts))):
-        if len(a) and (a.min() < 0 or a.max() >= m):
-            bad = int(a[(a < 0) | (a >= m)][0])
-            raise ValueError(f"{name} contains {bad}, outside 0 … {m - 1}")
+    j = as_indices(idx[0], "image_index", len(ext))
+    i = as_indices(idx[1], "point_index", len(pts))
     pairs = j * len(pts) + i
     if len(np.unique(pairs)) != len(pairs):
         k = int(np.flatnonzero(np.bincount(pairs) > 1)[0])
         raise ValueError(f"point {k % len(pts)} is observed twice in image {k // len(pts)}")
-    ctrl = np.zeros(len(pts), bool)
-    if control is not None:
-        c_arr = np.asarray(control)
-        if c_arr.dtype == bool:
-            if c_arr.shape != (len(pts),):
-                raise ValueError(f"control mask has shape {c_arr.shape}; expected ({len(pts)},)")
-            ctrl = c_arr.copy()
-        else:
-            ctrl[np.asarray(c_arr, int).ravel()] = True
-    return xy, j, i, ext, pts, ctrl
+    return xy, j, i, ext, pts, _control_mask(control, len(pts))
+
+
+def _control_mask(control, P):
+    """Bool mask (P,) of the control points from indices or a bool mask (P,)."""
+    ctrl = np.zeros(P, bool)
+    if control is None:
+        return ctrl
+    c_arr = np.asarray(control)
+    if c_arr.dtype == bool:
+        if c_arr.shape != (P,):
+            raise ValueError(f"control mask has shape {c_arr.shape}; expected ({P},)")
+        return c_arr.copy()
+    if c_arr.size and c_arr.dtype.kind not in "iu":
+        raise ValueError(f"control must hold integer point indices or be a bool mask of length "
+                         f"{P}, got dtype {c_arr.dtype}: {c_arr.ravel()[:6].tolist()}")
+    k = as_indices(c_arr, "control", P).ravel()
+    counts = np.bincount(k, minlength=P)
+    if np.any(counts > 1):
+        twice = int(np.flatnonzero(counts > 1)[0])
+        raise ValueError(f"control lists point {twice} {int(counts[twice])} times: pass each "
+                         f"control point's index once, or a bool mask of length {P} (an integer "
+                         "0/1 array is read as indices, not as a mask)")
+    ctrl[k] = True
+    return ctrl
 
 
 def _check_geometry(j, i, ext, pts, ctrl, datum):
@@ -370,6 +429,26 @@ def _check_geometry(j, i, ext, pts, ctrl, datum):
                              "not fixed (datum defect)")
 
 
+#: a new point's 3 × 3 normal block with λmin/λmax below this counts as singular: its rays
+#: meet at less than about 1e-6 rad (the default ``min_angle`` of forward_intersection)
+POINT_BLOCK_RCOND = 1e-12
+
+
+def _check_point_blocks(Npp, free):
+    """``DatumError`` naming the new points whose rays are (nearly) parallel: their 3 × 3
+    normal blocks ``N_ii = Σ A_iᵀA_i`` are singular, so they cannot be intersected."""
+    lam = np.linalg.eigvalsh(Npp)  # ascending, the blocks are symmetric positive semi-definite
+    bad = ~(lam[:, 0] > POINT_BLOCK_RCOND * lam[:, 2])  # NaN counts as bad
+    if bad.any():
+        names = free[bad]
+        shown = ", ".join(str(int(k)) for k in names[:10]) + (" …" if len(names) > 10 else "")
+        raise DatumError(
+            f"object point{'s' if len(names) > 1 else ''} {shown} cannot be intersected: "
+            f"{'their' if len(names) > 1 else 'its'} rays are parallel (3 × 3 normal block with "
+            f"λmin/λmax = {float(np.nan_to_num(lam[bad][0, 0] / lam[bad][0, 2])):.3g}): zero "
+            "base, e.g. images taken from the same projection centre X0, or a point at infinity")
+
+
 def bundle_adjustment(xy, image_index, point_index, exterior, points, c, x0=0.0, y0=0.0,
                       distortion=None, *, control=None, datum: str = "control",
                       calibrate=(), tol: float = 1e-10, max_iter: int = 30,
@@ -391,7 +470,8 @@ def bundle_adjustment(xy, image_index, point_index, exterior, points, c, x0=0.0,
     distortion : Distortion, optional
         Starting (or fixed) distortion, evaluated at the measured points; ``r0`` is kept.
     control : array_like of int or bool mask (P,), optional
-        Control points (Passpunkte), held fixed.
+        Control points (Passpunkte), held fixed: their indices (0 … P − 1, each once) or a
+        bool mask of length P.
     datum : {'control', 'free'}
         ``'control'``: datum by the control points (≥ 3, not on a line); ``'free'``: free
         network with the seven inner constraints on all object points (``control`` ignored).
@@ -411,9 +491,11 @@ def bundle_adjustment(xy, image_index, point_index, exterior, points, c, x0=0.0,
     Raises
     ------
     ValueError
-        Shapes, NaN, indices out of range, unknown parameters.
+        Shapes, NaN, indices out of range (``control`` too: integer indices, each once, or a
+        bool mask of length P), unknown parameters, ``max_iter < 1``, ``tol ≤ 0``.
     DatumError
-        Datum not fixed, image with < 3 points, a new point seen once, singular normal matrix.
+        Datum not fixed, image with < 3 points, a new point seen once, a new point whose rays
+        are parallel (zero base), singular normal matrix.
     ConvergenceError
         Divergence (points behind a camera, non-finite steps) or no convergence.
 
@@ -433,7 +515,8 @@ def bundle_adjustment(xy, image_index, point_index, exterior, points, c, x0=0.0,
         raise ValueError(f"datum must be 'control' or 'free', got {datum!r}")
     if datum == "free":
         ctrl[:] = False
-    calib = tuple(calibrate)
+    tol, max_iter = as_tolerance(tol), as_max_iter(max_iter)
+    calib = (calibrate,) if isinstance(calibrate, str) else tuple(calibrate)
     unknown = [n for n in calib if n not in INTERIOR_PARAMETERS]
     if unknown or len(set(calib)) != len(calib):
         raise ValueError(f"calibrate {calib!r}: each name once, from {INTERIOR_PARAMETERS}")
@@ -518,6 +601,7 @@ def bundle_adjustment(xy, image_index, point_index, exterior, points, c, x0=0.0,
         if d:
             Npy[:, :, 6 * M + k:] = inner_constraints(pts).reshape(P, 3, 7)[free]
         bp = Sp[:, :, -1]
+        _check_point_blocks(Sp[:, :, :3], free)
         Ninv = np.linalg.inv(Sp[:, :, :3])
         T = Ninv @ Npy  # (Pf, 3, ny)
         K = Nyy - Npy.reshape(-1, ny).T @ T.reshape(-1, ny)

@@ -25,7 +25,24 @@ BLOCK = 8192
 
 
 class PointBehindCameraError(ValueError):
-    """A point has ``N ≥ 0``: on or behind the image plane's side of the projection centre."""
+    """A point has ``N ≥ 0``: on or behind the image plane's side of the projection centre.
+
+    Raised by :func:`project` and :func:`collinearity_jacobian` with ``index`` (the first
+    such point) and ``detail`` (the message without the advice, for callers that rephrase it).
+    """
+
+    index: int | None = None
+    detail: str = ""
+
+
+def _behind_camera(pts, depth, valid, advice: str) -> PointBehindCameraError:
+    """The error about the first point with ``N ≥ 0`` (``valid`` False), naming it and N."""
+    i = int(np.argmin(valid))
+    detail = (f"X[{i}] = {pts[i].tolist()} is not in front of the camera: N = {depth[i]:.6g} "
+              "≥ 0 (N = r13·ΔX + r23·ΔY + r33·ΔZ must be negative)")
+    err = PointBehindCameraError(f"{detail}. {advice}")
+    err.index, err.detail = i, detail
+    return err
 
 
 def _interior(c, x0, y0, distortion):
@@ -96,13 +113,10 @@ def project(X, X0, R, c, x0=0.0, y0=0.0, distortion=None, *, return_valid=False)
     valid = depth < 0
     if not valid.all():
         if not return_valid:
-            i = int(np.argmin(valid))
-            raise PointBehindCameraError(
-                f"X[{i}] = {pts[i].tolist()} is not in front of the camera: N = {depth[i]:.6g} "
-                "≥ 0 (N = r13·ΔX + r23·ΔY + r33·ΔZ must be negative). Check X0, R, or pass "
-                "return_valid=True to get NaN for such points.")
+            raise _behind_camera(pts, depth, valid, "Check X0, R, or pass return_valid=True to "
+                                 "get NaN for such points.")
         out[~valid] = np.nan
-    if distortion is not None and not distortion.is_zero:
+    if distortion is not None and not distortion.is_zero and valid.any():
         ok = np.flatnonzero(valid)
         pp = np.array([x0, y0])
         out[ok] = distortion.distort(out[ok] - pp) + pp
@@ -125,6 +139,12 @@ def collinearity_jacobian(X, X0, R, c, *, angles=None):
         ``(omega, phi, kappa)`` in radians; required at gimbal lock, where R alone does not
         fix the angles (and so not the derivatives with respect to them). Must match R.
 
+    Raises
+    ------
+    PointBehindCameraError
+        If a point has ``N ≥ 0`` (on or behind the projection centre, where the
+        collinearity equations and their derivatives do not describe an image point).
+
     Returns
     -------
     J : ndarray, shape (N, 2, 9) or (2, 9)
@@ -141,11 +161,23 @@ def collinearity_jacobian(X, X0, R, c, *, angles=None):
     X0 = as_vector3(X0, "X0")
     R = as_rotation(R)
     c = as_scalar(c, "c", positive=True)
+    depth = (pts - X0) @ R[:, 2]  # N of every point, as in project
+    valid = depth < 0
+    if not valid.all():
+        raise _behind_camera(pts, depth, valid, "Check X0 and R: the image of such a point, "
+                             "and so its derivatives, are not defined.")
     if angles is None:
         angles = opk_from_rotation(R)
     else:
         from photolib.rotations import rotation_opk
 
+        try:
+            count = None if isinstance(angles, (str, bytes)) else len(angles)
+        except TypeError:
+            count = None
+        if count != 3:
+            raise ValueError(f"angles must be the three angles (omega, phi, kappa), got "
+                             f"{angles!r}")
         angles = tuple(as_scalar(a, n) for a, n in zip(angles, ("omega", "phi", "kappa")))
         if not np.allclose(rotation_opk(*angles), R, atol=1e-9):
             raise ValueError(f"angles {angles!r} do not give R (max deviation "

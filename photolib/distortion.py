@@ -23,7 +23,7 @@ from photolib._generated.distortion import (
     distortion_delta_and_jacobian,
     distortion_jacobian_params,
 )
-from photolib._validate import as_points, as_scalar
+from photolib._validate import as_int, as_max_iter, as_points, as_scalar, as_tolerance
 
 __all__ = ["Distortion", "ConvergenceReport", "DistortionDivergenceError", "OpenCVFit"]
 
@@ -277,10 +277,9 @@ class Distortion:
         pts, single = as_points(xy, 2, "xy")
         if method not in ("newton", "fixed-point"):
             raise ValueError(f"method must be 'newton' or 'fixed-point', got {method!r}")
-        tol = as_scalar(tol, "tol", positive=True)
-        if int(max_iter) < 1:
-            raise ValueError(f"max_iter must be >= 1, got {max_iter!r}")
-        if self.is_zero:
+        tol = as_tolerance(tol)
+        max_iter = as_max_iter(max_iter)
+        if self.is_zero or len(pts) == 0:  # nothing to iterate: (0, 2) in, (0, 2) out
             report = ConvergenceReport(method, True, 0, 0.0, ())
             out = pts[0].copy() if single else pts.copy()
             return (out, report) if return_report else out
@@ -291,7 +290,7 @@ class Distortion:
         # Newton only: det and trace of I − ∂Δ/∂x at each point's last iterate, for the fold check
         det_last = np.empty(n) if method == "newton" else None
         trace_last = np.empty(n) if method == "newton" else None
-        history = np.zeros(int(max_iter))
+        history = np.zeros(max_iter)
         iterations = 0
         tol2 = tol * tol
         # blocks of contiguous x and y keep every temporary in the CPU cache; within a block a
@@ -305,7 +304,7 @@ class Distortion:
                 xa, ya = ix + dx, iy + dy
             else:
                 xa, ya = ix.copy(), iy.copy()
-            for it in range(1, int(max_iter) + 1):
+            for it in range(1, max_iter + 1):
                 if method == "newton":
                     dx, dy, a, b, c, d = distortion_delta_and_jacobian(xa, ya, *args)
                     fx = xa - dx - ix
@@ -336,7 +335,7 @@ class Distortion:
                         f"{it} iterations; the distortion is not invertible there "
                         "(outside the calibrated format?)", rep, i)
                 done = step2 < tol2
-                last = it == int(max_iter)
+                last = it == max_iter
                 if last or done.all():
                     done = np.ones(len(idx), bool)
                 if done.any():
@@ -460,9 +459,8 @@ class Distortion:
 def _grid(half_width, half_height, n):
     hw = as_scalar(half_width, "half_width", positive=True)
     hh = as_scalar(half_height, "half_height", positive=True)
-    if int(n) < 3:
-        raise ValueError(f"n must be >= 3, got {n!r}")
-    gx, gy = np.meshgrid(np.linspace(-hw, hw, int(n)), np.linspace(-hh, hh, int(n)))
+    n = as_int(n, "n", minimum=3)
+    gx, gy = np.meshgrid(np.linspace(-hw, hw, n), np.linspace(-hh, hh, n))
     return np.column_stack([gx.ravel(), gy.ravel()])
 
 

@@ -35,7 +35,15 @@ from typing import NamedTuple
 
 import numpy as np
 
-from photolib._validate import as_point_pairs, as_rotation, as_scalar, as_vector3, check_finite
+from photolib._validate import (
+    as_float_array,
+    as_point_pairs,
+    as_rotation,
+    as_scalar,
+    as_vector3,
+    check_finite,
+)
+from photolib.transforms._base import DegenerateGeometryError
 from photolib.rotations import GimbalLockError, opk_from_rotation
 
 __all__ = ["DLTDecomposition", "DLTEstimate", "dlt_decompose", "dlt_estimate", "dlt_from_camera"]
@@ -66,7 +74,7 @@ class DLTDecomposition(NamedTuple):
 
 
 def _as_L(L) -> np.ndarray:
-    L = np.asarray(getattr(L, "L", L), dtype=float)
+    L = as_float_array(getattr(L, "L", L), "L", " with shape (11,)")
     if L.shape != (11,):
         raise ValueError(f"L has shape {L.shape}; expected (11,) (L1…L11)")
     check_finite(L, "L")
@@ -85,6 +93,24 @@ def _normaliser(P: np.ndarray) -> np.ndarray:
     T[:d, d] = -scale * centroid
     T[d, d] = 1.0
     return T
+
+
+def _check_image_spread(xy: np.ndarray) -> None:
+    """The image points of a DLT must span the image plane: coincident points (no spread,
+    the normalisation would divide by 0) and collinear ones (the object points then lie in
+    a plane through the projection centre) determine no camera."""
+    sv = np.linalg.svd(xy - xy.mean(axis=0), compute_uv=False)
+    size = float(np.max(np.abs(xy)))
+    spread = float(sv[0] / np.sqrt(len(xy)))  # RMS along the widest direction
+    if spread <= 1e-7 * max(size, 1e-300):
+        raise DegenerateGeometryError(
+            f"the image points (nearly) coincide: their spread {spread:.3g} is below 1e-7 of "
+            f"their coordinates (up to {size:.3g}), so the 11 DLT parameters are not determined")
+    if sv[1] <= 1e-9 * sv[0]:
+        raise DegenerateGeometryError(
+            "the image points are collinear (singular values of the centred points "
+            f"{sv[0]:.3g}, {sv[1]:.3g}): the object points lie in a plane through the "
+            "projection centre, and the 11 DLT parameters are not determined")
 
 
 def _reproject(L: np.ndarray, X: np.ndarray) -> np.ndarray:
@@ -115,6 +141,12 @@ def dlt_estimate(X, xy) -> DLTEstimate:
     DLTEstimate
         ``(L, residuals, sigma0, redundancy)`` with ``L`` of shape (11,).
 
+    Raises
+    ------
+    DegenerateGeometryError
+        Coplanar (or collinear) object points, or image points that (nearly) coincide or
+        lie on a line: then the 11 parameters are not determined.
+
     Examples
     --------
     >>> from photolib import project, rotation_opk
@@ -127,8 +159,10 @@ def dlt_estimate(X, xy) -> DLTEstimate:
     X, xy = as_point_pairs(X, xy, (3, 2), ("X", "xy"), 6, "dlt_estimate")
     sv = np.linalg.svd(X - X.mean(axis=0), compute_uv=False)
     if sv[2] <= 1e-9 * sv[0]:
-        raise ValueError("the object points are coplanar (or collinear); the 11 DLT parameters are "
-                         "not determined — use the 8-parameter ProjectiveTransform for a plane")
+        raise DegenerateGeometryError(
+            "the object points are coplanar (or collinear); the 11 DLT parameters are not "
+            "determined — use the 8-parameter ProjectiveTransform for a plane")
+    _check_image_spread(xy)
     TX, Tx = _normaliser(X), _normaliser(xy)
     Xn = np.column_stack([X, np.ones(len(X))]) @ TX.T
     xn = (np.column_stack([xy, np.ones(len(xy))]) @ Tx.T)[:, :2]

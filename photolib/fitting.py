@@ -15,7 +15,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from photolib._validate import as_points, as_scalar, check_finite
+from photolib._validate import as_float_array, as_points, as_scalar, as_vector3, check_finite
 from photolib.transforms._base import DegenerateGeometryError, collinearity_ratio
 
 __all__ = ["Ellipse", "EllipseFit", "Plane", "PlaneFit", "circle_from_conic", "conic_to_ellipse",
@@ -62,7 +62,7 @@ def conic_to_ellipse(conic) -> Ellipse:
     >>> e.centre.round(12).tolist(), e.axes.round(12).tolist(), round(e.angle, 12)
     ([1.0, 0.0], [3.0, 2.0], 0.0)
     """
-    q = np.asarray(conic, dtype=float)
+    q = as_float_array(conic, "conic", " with shape (6,)")
     if q.shape != (6,):
         raise ValueError(f"conic has shape {q.shape}; expected (6,) = (a, b, c, d, e, f)")
     check_finite(q, "conic")
@@ -118,6 +118,12 @@ def fit_ellipse(xy) -> EllipseFit:
     -------
     EllipseFit
 
+    Raises
+    ------
+    DegenerateGeometryError
+        Collinear points, fewer than 5 distinct ones, points through which more than one conic
+        passes (e.g. four on a line), points exactly on a line pair, or no elliptic solution.
+
     Examples
     --------
     >>> t = np.linspace(0, 2 * np.pi, 9)[:-1]
@@ -132,11 +138,17 @@ def fit_ellipse(xy) -> EllipseFit:
     if collinearity_ratio(pts) < 1e-9:
         raise DegenerateGeometryError("the points are collinear (or coincide); no ellipse is "
                                       "determined")
+    distinct = len(np.unique(pts, axis=0))
+    if distinct < 5:
+        raise DegenerateGeometryError(f"fit_ellipse needs at least 5 distinct points, got "
+                                      f"{distinct} among the {len(pts)}: a conic through fewer "
+                                      "is not determined")
     m = pts.mean(axis=0)
     s = np.sqrt(2.0) / np.mean(np.linalg.norm(pts - m, axis=1))
     u, v = (s * (pts - m)).T
     D1 = np.column_stack([u * u, u * v, v * v])
     D2 = np.column_stack([u, v, np.ones_like(u)])
+    _check_conic_determined(np.column_stack([D1, D2]))
     S1, S2, S3 = D1.T @ D1, D1.T @ D2, D2.T @ D2
     T = -np.linalg.solve(S3, S2.T)
     Mred = S1 + S2 @ T
@@ -166,6 +178,31 @@ def fit_ellipse(xy) -> EllipseFit:
     n = len(pts)
     sigma0 = float(np.sqrt(np.sum(res**2) / (n - 5))) if n > 5 else float("nan")
     return EllipseFit(ell.centre, ell.axes, ell.angle, conic, res, sigma0)
+
+
+def _check_conic_determined(D: np.ndarray) -> None:
+    """Refuse point sets that do not fix one proper conic, from the design matrix ``D`` (N, 6)
+    of the normalised points (rows ``u², uv, v², u, v, 1``).
+
+    Two (near) zero singular values: a family of conics passes through the points (e.g. four
+    of them on a line), any "fit" is arbitrary. One: the points lie exactly on one conic; if it
+    is degenerate (a pair of lines, det of its 3 × 3 matrix zero) there is no ellipse to fit.
+    """
+    Rd = np.linalg.qr(D, mode="r") if len(D) > 6 else D   # same singular values and V as D
+    Rd = np.vstack([Rd, np.zeros((6 - len(Rd), 6))]) if len(Rd) < 6 else Rd
+    sv, Vt = np.linalg.svd(Rd)[1:]
+    if sv[4] <= 1e-10 * sv[0]:
+        raise DegenerateGeometryError(
+            "the points do not determine a conic: more than one passes through them (e.g. four "
+            "of them on one line); no ellipse is determined")
+    if sv[5] <= 1e-10 * sv[0]:
+        a, b, c, d, e, f = Vt[5]
+        C = np.array([[a, b / 2, d / 2], [b / 2, c, e / 2], [d / 2, e / 2, f]])
+        lam = np.sort(np.abs(np.linalg.eigvalsh(C)))
+        if lam[0] <= 1e-10 * lam[-1]:
+            raise DegenerateGeometryError(
+                "the points lie on a degenerate conic (a pair of straight lines): no ellipse "
+                "is determined")
 
 
 def circle_from_conic(A, D, E, F) -> tuple[np.ndarray, float]:
@@ -219,7 +256,7 @@ def plane_through_points(p1, p2, p3) -> Plane:
     >>> pl_.normal.tolist(), pl_.d
     ([0.0, 0.0, 1.0], 1.0)
     """
-    P = np.array([as_points(p, 3, name)[0][0] for p, name in ((p1, "p1"), (p2, "p2"), (p3, "p3"))])
+    P = np.array([as_vector3(p, name) for p, name in ((p1, "p1"), (p2, "p2"), (p3, "p3"))])
     n = np.cross(P[1] - P[0], P[2] - P[0])
     size = np.linalg.norm(n)
     scale = max(np.linalg.norm(P[1] - P[0]) * np.linalg.norm(P[2] - P[0]), 1e-300)

@@ -18,7 +18,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from photolib._validate import as_scalar, check_finite
+from photolib._validate import as_float_array, as_max_iter, as_tolerance, check_finite
 from photolib.transforms._base import ConvergenceError
 
 __all__ = ["PARAMETER_NAMES", "LSMResult", "least_squares_matching", "lsm_design_matrix"]
@@ -170,14 +170,14 @@ def least_squares_matching(template, search, initial, *, tol: float = 1e-4, max_
     >>> res.position.round(6).tolist(), res.params[6:].round(3).tolist(), res.converged
     ([20.0, 18.0], [5.0, 0.9], True)
     """
-    f = np.asarray(template, dtype=float)
-    g_img = np.asarray(search, dtype=float)
+    f = as_float_array(template, "template")
+    g_img = as_float_array(search, "search")
     for arr, name in ((f, "template"), (g_img, "search")):
         if arr.ndim != 2 or min(arr.shape) < 3:
             raise ValueError(f"{name} has shape {arr.shape}; expected a 2-D image of at least 3 × 3")
         check_finite(arr, name)
-    tol = as_scalar(tol, "tol", positive=True)
-    q = np.asarray(initial, dtype=float).ravel()
+    tol, max_iter = as_tolerance(tol), as_max_iter(max_iter)
+    q = as_float_array(initial, "initial").ravel()
     if q.shape == (2,):
         q = np.array([q[0], 1.0, 0.0, q[1], 0.0, 1.0, 0.0, 1.0])
     if q.shape != (8,):
@@ -203,9 +203,16 @@ def least_squares_matching(template, search, initial, *, tol: float = 1e-4, max_
         rows = b0 + b1 * x + b2 * y
         if not (cols.min() >= 0 and rows.min() >= 0 and cols.max() <= W - 1
                 and rows.max() <= H - 1):                  # (NaN positions count as outside)
-            err = ConvergenceError(f"least-squares matching diverged: after {it - 1} iterations "
-                                   f"the patch (centre col {a0:.2f}, row {b0:.2f}) leaves "
-                                   f"the search image of {W} × {H} pixels")
+            if it == 1:  # not a divergence: the start itself does not fit
+                msg = (f"least-squares matching cannot start: the patch at the initial position "
+                       f"(centre col {a0:.2f}, row {b0:.2f}) does not lie inside the search "
+                       f"image of {W} × {H} pixels (the {f.shape[1]} × {f.shape[0]} template "
+                       "must fit into it); move the start away from the border")
+            else:
+                msg = (f"least-squares matching diverged: after {it - 1} iterations the patch "
+                       f"(centre col {a0:.2f}, row {b0:.2f}) leaves the search image of "
+                       f"{W} × {H} pixels")
+            err = ConvergenceError(msg)
             err.history = np.array(history)
             raise err
         g, gx, gy = _bilinear(planes, W, cols, rows)

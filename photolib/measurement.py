@@ -19,7 +19,14 @@ from typing import NamedTuple
 
 import numpy as np
 
-from photolib._validate import as_points, as_scalar, check_finite
+from photolib._validate import (
+    as_float_array,
+    as_max_iter,
+    as_points,
+    as_scalar,
+    as_tolerance,
+    check_finite,
+)
 from photolib.transforms._base import ConvergenceError, collinearity_ratio
 
 __all__ = ["Centroid", "CircleFit", "EdgePoints", "MomentThreshold", "edge_points", "fit_circle",
@@ -62,7 +69,7 @@ def laplacian_of_gaussian(r, sigma):
     True
     """
     sigma = as_scalar(sigma, "sigma", positive=True)
-    r = np.asarray(r, dtype=float)
+    r = as_float_array(r, "r")
     check_finite(np.atleast_1d(r), "r")
     q = r**2 / (2.0 * sigma**2)
     out = -(1.0 - q) * np.exp(-q) / (np.pi * sigma**4)
@@ -116,7 +123,7 @@ def moment_threshold(image) -> MomentThreshold:
     >>> t.threshold, round(t.p1, 12), round(t.h1, 9), round(t.h2, 9)
     (10.0, 0.3, 10.0, 200.0)
     """
-    g = np.asarray(image, dtype=float).ravel()
+    g = as_float_array(image, "image").ravel()
     if g.size == 0:
         raise ValueError("image is empty")
     check_finite(g, "image")
@@ -185,6 +192,7 @@ def fit_circle(xy, *, refine: bool = True, tol: float = 1e-12, max_iter: int = 5
     ([3.0, -1.0], 2.0)
     """
     pts, _ = as_points(xy, 2, "xy")
+    tol, max_iter = as_tolerance(tol), as_max_iter(max_iter)
     if len(pts) < 3:
         raise ValueError(f"fit_circle needs at least 3 points, got {len(pts)}")
     if collinearity_ratio(pts) < 1e-9:
@@ -223,7 +231,7 @@ def fit_circle(xy, *, refine: bool = True, tol: float = 1e-12, max_iter: int = 5
 # -- LoG filtering of an image, zero crossings ---------------------------------------------------
 
 def _image2d(image, name="image") -> np.ndarray:
-    img = np.asarray(image, dtype=float)
+    img = as_float_array(image, name)
     if img.ndim != 2 or min(img.shape) < 3:
         raise ValueError(f"{name} has shape {np.shape(image)}; expected a 2-D grey image of at "
                          "least 3 × 3 pixels")
@@ -363,7 +371,7 @@ def zero_crossings(response, threshold: float = 0.0) -> np.ndarray:
     >>> zero_crossings([[-2.0, -1.0, 3.0, 4.0]] * 3)[0].tolist()
     [False, True, False, False]
     """
-    L = np.asarray(response, dtype=float)
+    L = as_float_array(response, "response")
     if L.ndim != 2:
         raise ValueError(f"response has shape {L.shape}; expected (H, W)")
     check_finite(L, "response")

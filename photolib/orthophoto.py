@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from photolib._validate import as_scalar, as_vector3, check_finite
+from photolib._validate import as_float_array, as_int, as_scalar, as_vector3, check_finite
 from photolib.collinearity import PointBehindCameraError, project
 from photolib.distortion import Distortion
 from photolib.pixels import pixel_from_image
@@ -44,6 +44,12 @@ __all__ = ["DTM", "FrameCamera", "OutsideModelError", "differential_rectificatio
 
 #: output rows per block of :func:`differential_rectification`
 BLOCK_ROWS = 256
+
+#: most samples :func:`visibility` takes along one ray with a ``step``; a smaller step raises
+MAX_RAY_STEPS = 1_000_000
+
+#: ray samples :func:`visibility` evaluates at once (bounds the memory of the marching)
+_MARCH_SAMPLES = 1 << 18
 
 
 class OutsideModelError(ValueError):
@@ -80,7 +86,8 @@ class DTM:
     """
 
     def __init__(self, heights, origin, spacing, order: int = 1):
-        Z = np.asarray(heights, dtype=float)
+        # a copy: the model must not change when the caller later changes its array
+        Z = np.array(as_float_array(heights, "heights"))
         if Z.ndim != 2 or min(Z.shape) < 1:
             raise ValueError(f"heights has shape {Z.shape}; expected (rows, cols)")
         if order == 1 and min(Z.shape) < 2:
@@ -202,8 +209,10 @@ class FrameCamera:
         object.__setattr__(self, "R", np.asarray(self.R, dtype=float))
         for name in ("width", "height"):
             v = getattr(self, name)
-            if int(v) != v or v < 1:
-                raise ValueError(f"{name} must be a positive number of pixels, got {v!r}")
+            try:
+                as_int(v, name, minimum=1)
+            except ValueError:
+                raise ValueError(f"{name} must be a positive number of pixels, got {v!r}") from None
         as_scalar(self.pixel_size, "pixel_size", positive=True)
 
     @property
@@ -400,7 +409,8 @@ def visibility(camera: FrameCamera, dsm: DTM, out_shape, origin, pixel_size, *,
     ``Z_ray(t) < Z_DSM(X_ray(t), Y_ray(t)) − tolerance``. For a DSM of constant cells
     (``order=0``) and no ``step``, the ray is tested exactly where it enters each cell it
     crosses; otherwise it is sampled every ``step`` (default: a quarter of the DSM spacing)
-    in plan until it rises above the highest cell.
+    in plan until it rises above the highest cell, at most ``MAX_RAY_STEPS`` (10⁶) samples
+    per ray: a ``step`` that would need more raises ``ValueError``.
 
     Returns
     -------
@@ -435,18 +445,30 @@ def visibility(camera: FrameCamera, dsm: DTM, out_shape, origin, pixel_size, *,
         return visible.reshape(nr, nc)
     step = dsm.spacing / 4.0 if step is None else as_scalar(step, "step", positive=True)
     plan = np.hypot(ray[:, 0], ray[:, 1]) * t_top
-    n_steps = int(np.ceil(plan.max() / step)) if len(plan) else 0
+    longest = float(plan.max()) if len(plan) else 0.0
+    if longest / step > MAX_RAY_STEPS:
+        raise ValueError(f"step = {step:g} would need {np.ceil(longest / step):.3g} samples along "
+                         f"the longest ray (plan length {longest:.6g} below the highest cell), "
+                         f"more than MAX_RAY_STEPS = {MAX_RAY_STEPS:,}; use a larger step (the "
+                         f"default is a quarter of the DSM spacing, {dsm.spacing / 4.0:g})")
+    n_steps = int(np.ceil(longest / step)) if len(plan) else 0
     visible = np.ones(len(P), dtype=bool)
     active = np.flatnonzero(plan > 0)
-    for k in range(1, n_steps + 1):
-        active = active[(k - 1) * step < plan[active]]      # rays still below the top
+    k0 = 1
+    while k0 <= n_steps:  # steps k0 … k0 + m − 1 of all rays still below the top at once
+        active = active[(k0 - 1) * step < plan[active]]
         if not len(active):
             break
-        t = np.minimum(k * step / plan[active], 1.0) * t_top[active]
-        q = P[active] + t[:, None] * ray[active]
-        hidden = q[:, 2] < dsm._lookup(q[:, :2]) - tolerance
+        m = max(1, min(n_steps - k0 + 1, _MARCH_SAMPLES // len(active)))
+        k = np.arange(k0, k0 + m, dtype=float)
+        pa = plan[active][:, None]
+        t = np.minimum(k * step / pa, 1.0) * t_top[active][:, None]
+        q = P[active][:, None, :] + t[..., None] * ray[active][:, None, :]
+        below = q[..., 2] < dsm._lookup(q[..., :2].reshape(-1, 2)).reshape(t.shape) - tolerance
+        hidden = (below & ((k - 1) * step < pa)).any(axis=1)  # only steps the ray still takes
         visible[active[hidden]] = False
         active = active[~hidden]
+        k0 += m
     return visible.reshape(nr, nc)
 
 

@@ -10,13 +10,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from photolib._validate import as_points, as_scalar
+from photolib._validate import as_float_array, as_points, as_scalar
 
 __all__ = ["image_from_pixel", "pixel_from_image"]
 
 
 def _pixel_size(pixel_size):
-    s = np.broadcast_to(np.asarray(pixel_size, dtype=float), (2,))
+    s = as_float_array(pixel_size, "pixel_size", " (a scalar or (x, y))")
+    if s.shape not in ((), (1,), (2,)):
+        raise ValueError(f"pixel_size has shape {s.shape}; expected a scalar or (2,) = (x, y)")
+    s = np.broadcast_to(s, (2,))
     for v, n in zip(s, ("pixel_size x", "pixel_size y")):
         as_scalar(v, n, positive=True)
     return s

@@ -19,7 +19,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from photolib._validate import as_point_pairs, as_scalar
+from photolib._validate import (
+    as_float_array,
+    as_max_iter,
+    as_point_pairs,
+    as_scalar,
+    as_tolerance,
+)
 from photolib.collinearity import PointBehindCameraError, collinearity_jacobian, project
 from photolib.distortion import Distortion
 from photolib.dlt import dlt_decompose, dlt_estimate
@@ -100,6 +106,9 @@ def space_resection(X, xy, c, x0=0.0, y0=0.0, distortion=None, initial=None, *,
 
     Raises
     ------
+    ValueError
+        Shapes, NaN, ``max_iter < 1``, ``tol ≤ 0``; ``DegenerateGeometryError`` (a
+        ValueError) from the DLT start for coplanar object or collinear image points.
     ConvergenceError
         Divergence (non-finite values, points ending behind the camera) or no convergence.
 
@@ -116,6 +125,7 @@ def space_resection(X, xy, c, x0=0.0, y0=0.0, distortion=None, initial=None, *,
     X, xy = as_point_pairs(X, xy, (3, 2), ("X", "xy"), 3, "space_resection")
     c = as_scalar(c, "c", positive=True)
     x0, y0 = as_scalar(x0, "x0"), as_scalar(y0, "y0")
+    tol, max_iter = as_tolerance(tol), as_max_iter(max_iter)
     if distortion is not None and not isinstance(distortion, Distortion):
         raise TypeError(f"distortion must be a photolib.Distortion or None, got {type(distortion).__name__}")
     pp = np.array([x0, y0])
@@ -123,7 +133,7 @@ def space_resection(X, xy, c, x0=0.0, y0=0.0, distortion=None, initial=None, *,
     if initial is None:
         q = _initial_from_dlt(X, obs)
     else:
-        q = np.asarray(initial, dtype=float)
+        q = as_float_array(initial, "initial")
         if q.shape != (6,):
             raise ValueError(f"initial has shape {q.shape}; expected (6,) = (X0, Y0, Z0, omega, phi, kappa)")
         if not np.all(np.isfinite(q)):
@@ -135,8 +145,9 @@ def space_resection(X, xy, c, x0=0.0, y0=0.0, distortion=None, initial=None, *,
         try:
             v = project(X, q[:3], R, c, x0, y0) - obs
             A = collinearity_jacobian(X, q[:3], R, c, angles=tuple(q[3:]))[:, :, :6].reshape(-1, 6)
-        except PointBehindCameraError as exc:
-            raise ConvergenceError(f"space resection diverged in iteration {it}: {exc}") from None
+        except PointBehindCameraError as exc:  # its detail: without project's return_valid hint
+            raise ConvergenceError(f"space resection diverged in iteration {it}: "
+                                   f"{exc.detail or exc}; check the initial values") from None
         dq = np.linalg.lstsq(A, -v.reshape(-1), rcond=None)[0]
         if not np.all(np.isfinite(dq)):
             raise ConvergenceError(f"space resection diverged in iteration {it}: non-finite update")

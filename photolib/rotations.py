@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from photolib._generated.rotation import rotation_opk_elements, rotation_pok_elements
-from photolib._validate import as_rotation, as_vector3, check_finite
+from photolib._validate import as_float_array, as_rotation, as_vector3, check_finite
 
 __all__ = [
     "GimbalLockError", "rotation_opk", "opk_from_rotation", "rotation_pok", "pok_from_rotation",
@@ -33,10 +33,20 @@ def _stack(elements) -> np.ndarray:
     return np.stack(e, axis=-1).reshape(e[0].shape + (3, 3))
 
 
+def _angle(value, name):
+    a = as_float_array(value, name)
+    check_finite(np.atleast_1d(a), name)
+    return a
+
+
 def _angles(omega, phi, kappa):
-    out = [np.asarray(a, dtype=float) for a in (omega, phi, kappa)]
-    for name, a in zip(("omega", "phi", "kappa"), out):
-        check_finite(np.atleast_1d(a), name)
+    out = [_angle(a, name) for a, name in zip((omega, phi, kappa), ("omega", "phi", "kappa"))]
+    if any(a.ndim for a in out):
+        try:
+            np.broadcast_shapes(*(a.shape for a in out))
+        except ValueError:
+            raise ValueError(f"omega, phi, kappa have shapes {[a.shape for a in out]}, which do "
+                             "not broadcast to one shape") from None
     return out
 
 
@@ -189,7 +199,7 @@ def rotation_2d(alpha) -> np.ndarray:
     >>> np.round(rotation_2d(np.pi / 2) @ [1.0, 0.0], 12) + 0.0
     array([0., 1.])
     """
-    R = rotation_opk(0.0, 0.0, alpha)
+    R = rotation_opk(0.0, 0.0, _angle(alpha, "alpha"))
     return R[..., :2, :2].copy()
 
 

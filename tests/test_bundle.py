@@ -427,3 +427,97 @@ def test_critical_value_bad_input():
         bd.critical_value(0.01, "chi2")
     with pytest.raises(ValueError, match="dof must be"):
         bd.student_t_cdf(1.0, 0)
+
+
+# -- input handling (red-team audit) --------------------------------------------------------------
+
+def _pair(X0s):
+    """Two images of a small block, taken from the projection centres ``X0s``."""
+    X = np.array([[0, 0, 0], [10, 0, 1], [0, 10, 2], [10, 10, 0], [5, 5, 3.0], [3, 7, 1.0]])
+    ext = np.array([[*X0, 0.0, 0.0, 0.0] for X0 in X0s])
+    xy = np.vstack([pl.project(X, e[:3], pl.rotation_opk(*e[3:]), 20.0) for e in ext])
+    return xy, np.repeat([0, 1], 6), np.tile(np.arange(6), 2), ext, X
+
+
+@pytest.mark.parametrize("shift", [0.0, 0.01])
+def test_zero_base_is_a_datum_error_naming_the_points(shift):
+    """Both images from one X0: the rays of the new points are parallel (was a bare
+    LinAlgError 'Singular matrix' from the 3 × 3 point blocks)."""
+    xy, ji, pi, ext, X = _pair([(5.0, 5.0, 30.0), (5.0, 5.0, 30.0)])
+    start = ext + [[shift, 0, 0, 0, 0, 0], [0, 0, 0, 0, 0, 0]]
+    with pytest.raises(bd.DatumError, match=r"object points 4, 5 cannot be intersected: "
+                                            r"their rays are parallel"):
+        bd.bundle_adjustment(xy, ji, pi, start, X, 20.0, control=[0, 1, 2, 3])
+
+
+@pytest.mark.parametrize("kwargs, text", [
+    ({"max_iter": 0}, r"max_iter must be an integer ≥ 1, got 0"),
+    ({"max_iter": 0, "check": False}, r"max_iter must be an integer ≥ 1, got 0"),
+    ({"max_iter": 2.5}, r"max_iter must be an integer, got 2.5"),
+    ({"tol": -1.0}, r"tol must be > 0, got -1.0"),
+    ({"tol": np.nan}, r"tol must be finite, got nan"),
+])
+def test_iteration_limit_and_tolerance_are_checked(kwargs, text):
+    xy, ji, pi, ext, X = _pair([(3.0, 5.0, 30.0), (7.0, 5.0, 30.0)])
+    with pytest.raises(ValueError, match=text):
+        bd.bundle_adjustment(xy, ji, pi, ext + 0.01, X, 20.0, control=[0, 1, 2, 3], **kwargs)
+
+
+@pytest.mark.parametrize("control, text", [
+    ([0, 1, 2, 9], r"control contains 9, outside 0 … 5"),
+    ([0, 1, 2, -1], r"control contains -1, outside 0 … 5"),
+    ([0.0, 1.9, 2.5, 3.1], r"control must hold integer point indices or be a bool mask of "
+                           r"length 6, got dtype float64"),
+    (np.array([1, 1, 1, 1, 0, 0]), r"control lists point 0 2 times.*0/1 array is read as "
+                                   r"indices"),
+    (np.ones(5, bool), r"control mask has shape \(5,\); expected \(6,\)"),
+])
+def test_control_indices_are_checked(control, text):
+    xy, ji, pi, ext, X = _pair([(3.0, 5.0, 30.0), (7.0, 5.0, 30.0)])
+    with pytest.raises(ValueError, match=text):
+        bd.bundle_adjustment(xy, ji, pi, ext + 0.01, X, 20.0, control=control)
+
+
+def test_control_as_indices_mask_or_array_give_the_same_result():
+    xy, ji, pi, ext, X = _pair([(3.0, 5.0, 30.0), (7.0, 5.0, 30.0)])
+    mask = np.array([True, True, True, True, False, False])
+    results = [bd.bundle_adjustment(xy, ji, pi, ext + 0.01, X, 20.0, control=c)
+               for c in ([0, 1, 2, 3], np.array([3, 2, 1, 0], np.uint8), mask)]
+    for r in results[1:]:
+        np.testing.assert_array_equal(r.exterior, results[0].exterior)
+    by_name = bd.bundle_adjustment(xy, ji, pi, ext + 0.01, X, 20.0, control=mask, calibrate="c")
+    assert by_name.calibrate == ("c",)
+
+
+@pytest.mark.parametrize("alpha, dof", [(a, d) for a in (1e-12, 1e-16, 1e-20, 1e-50, 1e-300)
+                                         for d in (math.inf, 1, 2, 5, 30)
+                                         if (a, d) != (1e-300, 5)])  # SciPy: −inf there
+def test_critical_values_for_tiny_alpha_agree_with_scipy(alpha, dof):
+    """The root is taken on the upper tail P(T > k) = α/2: with 1 − cdf every α ≤ 1e-16
+    gave the same wrong k (8.29 for the normal, 2796 instead of 2855 for t(5) at 1e-16)."""
+    test, ref = (("normal", stats.norm.isf(alpha / 2)) if math.isinf(dof)
+                 else ("t", stats.t.isf(alpha / 2, dof)))
+    assert bd.critical_value(alpha, test, dof) == pytest.approx(ref, rel=1e-13)
+
+
+def test_degrees_of_freedom_must_be_numbers():
+    for f in (lambda: bd.student_t_cdf(1.0, "a"), lambda: bd.critical_value(0.05, "t", "a")):
+        with pytest.raises(ValueError, match=r"dof must be a real number > 0 \(inf: normal\), "
+                                             r"got 'a'"):
+            f()
+    with pytest.raises(ValueError, match="dof must be > 0, got nan"):
+        bd.critical_value(0.05, "t", np.nan)
+
+
+def test_inner_constraints_and_pattern_check_their_input():
+    with pytest.raises(ValueError, match=r"points contains a non-finite value nan at index "
+                                         r"\(0, 0\)"):
+        bd.inner_constraints([[np.nan, 2.0, 3.0], [1.0, 0.0, 0.0]])
+    with pytest.raises(ValueError, match=r"points has shape \(3,\); expected \(P, 3\)"):
+        bd.inner_constraints([1.0, 2.0, 3.0])
+    with pytest.raises(ValueError, match=r"image_index contains 5, outside 0 … 1"):
+        bd.normal_matrix_pattern([0, 5], [0, 0], 2, 1)
+    with pytest.raises(ValueError, match=r"image_index contains -1, outside 0 … 1"):
+        bd.normal_matrix_pattern([0, -1], [0, 0], 2, 1)
+    with pytest.raises(ValueError, match=r"fixed contains 3, outside 0 … 0"):
+        bd.normal_matrix_pattern([0, 1], [0, 0], 2, 1, fixed=[3])

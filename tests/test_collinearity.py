@@ -187,3 +187,50 @@ def test_projection_of_large_n_is_blockwise_identical():
     k = (X - X0) @ R
     want = np.column_stack([-100 * k[:, 0] / k[:, 2], -100 * k[:, 1] / k[:, 2]])
     np.testing.assert_allclose(pl.project(X, X0, R, 100.0), want, rtol=1e-13, atol=1e-12)
+
+
+# -- input handling (red-team audit) --------------------------------------------------------------
+
+def test_project_with_distortion_and_no_point_in_front():
+    """All points behind the camera, or none at all, with distortion: NaN rows / an empty
+    result (was 'zero-size array to reduction operation maximum' from Distortion.distort)."""
+    X, X0, R = _scene(n=7)
+    d = pl.Distortion(A1=-1e-6, B1=1e-6)
+    behind = X0 + [0.0, 0.0, 100.0] + X * 0.1            # all above the camera
+    xy, valid = pl.project(behind, X0, R, 100.0, distortion=d, return_valid=True)
+    assert xy.shape == (7, 2) and np.isnan(xy).all() and not valid.any()
+    xy, valid = pl.project(np.zeros((0, 3)), X0, R, 100.0, distortion=d, return_valid=True)
+    assert xy.shape == (0, 2) and valid.shape == (0,)
+    assert pl.project(np.zeros((0, 3)), X0, R, 100.0, distortion=d).shape == (0, 2)
+
+
+def test_jacobian_refuses_points_not_in_front_of_the_camera():
+    X, X0, R = _scene(n=10)
+    X = X.copy()
+    X[4] = X0 + R @ [0.0, 0.0, 10.0]                      # behind: N = +10
+    with pytest.raises(pl.PointBehindCameraError, match=r"X\[4\] .* N = 10 ≥ 0"):
+        pl.collinearity_jacobian(X, X0, R, 100.0)
+    with pytest.raises(pl.PointBehindCameraError, match=r"X\[0\] .* N = 0 ≥ 0"):
+        pl.collinearity_jacobian([1.0, 2.0, 100.0], [0.0, 0.0, 100.0], np.eye(3), 100.0)  # N = 0
+    assert pl.collinearity_jacobian(np.zeros((0, 3)), X0, R, 100.0).shape == (0, 2, 9)
+
+
+@pytest.mark.parametrize("angles", [(0.04, -0.06), (0.04, -0.06, 0.7, 9.0), "abc"])
+def test_jacobian_needs_exactly_three_angles(angles):
+    X, X0, R = _scene(n=3)
+    with pytest.raises(ValueError, match=r"angles must be the three angles \(omega, phi, kappa\)"):
+        pl.collinearity_jacobian(X, X0, R, 100.0, angles=angles)
+
+
+def test_complex_and_text_input_is_refused_with_the_argument_name():
+    X, X0, R = _scene(n=3)
+    with pytest.raises(ValueError, match=r"X must be real with shape \(N, 3\) or \(3,\), got "
+                                         r"complex values"):
+        pl.project(X + 1j, X0, R, 100.0)
+    with pytest.raises(ValueError, match=r"X0 must be real with shape \(3,\)"):
+        pl.project(X, X0 + 0j, R, 100.0)
+    with pytest.raises(ValueError, match=r"c must be a real number"):
+        pl.project(X, X0, R, np.complex128(100.0))
+    with pytest.raises(ValueError, match=r"X must be numeric with shape \(N, 3\) or \(3,\), got "
+                                         r"'a' at index \(0, 0\)"):
+        pl.project([["a", 2, 0]], X0, R, 100.0)

@@ -218,3 +218,29 @@ def test_pixels_round_trip_and_centre():
     np.testing.assert_allclose(pl.pixel_from_image(xy, 1024, 768, 0.005), colrow, atol=1e-9)
     with pytest.raises(ValueError, match="pixel_size x must be > 0"):
         pl.image_from_pixel(colrow, 1024, 768, 0.0)
+
+
+# -- input handling (red-team audit) --------------------------------------------------------------
+
+@pytest.mark.parametrize("method", ["newton", "fixed-point"])
+def test_distort_of_no_points_is_empty(method):
+    d = pl.Distortion(A1=-1e-4, B1=1e-5)
+    out, rep = d.distort(np.zeros((0, 2)), method, return_report=True)
+    assert out.shape == (0, 2) and rep.converged and rep.iterations == 0
+
+
+@pytest.mark.parametrize("max_iter, text", [(0, "an integer ≥ 1, got 0"), (2.5, "an integer, got 2.5"),
+                                            ("a", "an integer, got 'a'")])
+def test_distort_iteration_limit_must_be_a_positive_integer(max_iter, text):
+    with pytest.raises(ValueError, match=f"max_iter must be {text}"):
+        pl.Distortion(A1=-1e-4).distort([[1.0, 1.0]], max_iter=max_iter)
+
+
+def test_pixel_size_of_the_wrong_shape_or_type_is_named():
+    with pytest.raises(ValueError, match=r"pixel_size has shape \(3,\); expected a scalar or "
+                                         r"\(2,\)"):
+        pl.image_from_pixel([0.0, 0.0], 3, 3, [0.01, 0.01, 0.01])
+    with pytest.raises(ValueError, match=r"pixel_size must be numeric .*, got 'a'"):
+        pl.pixel_from_image([0.0, 0.0], 3, 3, "a")
+    np.testing.assert_array_equal(pl.image_from_pixel([0.0, 0.0], 3, 3, [0.01, 0.02]),
+                                  [-0.01, 0.02])

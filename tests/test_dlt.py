@@ -8,6 +8,7 @@ import pytest
 
 from photolib import project, rotation_opk
 from photolib.dlt import dlt_decompose, dlt_estimate, dlt_from_camera
+from photolib.transforms import DegenerateGeometryError
 
 
 def _scene(rng, n=20):
@@ -143,3 +144,29 @@ def test_errata_example_4_3():
     assert np.degrees([d.omega, d.phi, d.kappa]) == pytest.approx([-23.405, -7.767, 0.031], abs=0.05)
     assert (d.c_x, d.c_y) == pytest.approx((42.0688, 43.1747), rel=1e-3)
     assert d.x0 * -3.7708 < 0 and d.y0 * 3.8404 < 0
+
+
+# -- input handling (red-team audit) --------------------------------------------------------------
+
+def test_coincident_or_collinear_image_points_are_refused():
+    """Coincident image points made the normaliser divide by 0 (LinAlgError 'SVD did not
+    converge'); collinear ones gave an L with σ0 ≈ 1e-14 as if all were well."""
+    rng = np.random.default_rng(34)
+    X, X0, angles = _scene(rng)
+    xy = project(X, X0, rotation_opk(*angles), c=35.0)
+    with pytest.raises(DegenerateGeometryError, match=r"image points \(nearly\) coincide"):
+        dlt_estimate(X, np.ones((len(X), 2)))
+    near = xy.mean(axis=0) + 1e-9 * rng.standard_normal(xy.shape)   # 1 pm of spread
+    with pytest.raises(DegenerateGeometryError, match=r"image points \(nearly\) coincide"):
+        dlt_estimate(X, near)
+    line = np.column_stack([np.arange(len(X), dtype=float)] * 2)
+    with pytest.raises(DegenerateGeometryError, match="image points are collinear"):
+        dlt_estimate(X, line)
+    flat = X * [1, 1, 0]
+    with pytest.raises(DegenerateGeometryError, match="object points are coplanar"):
+        dlt_estimate(flat, xy)
+
+
+def test_dlt_decompose_names_a_non_numeric_L():
+    with pytest.raises(ValueError, match=r"L must be numeric with shape \(11,\), got 'abc'"):
+        dlt_decompose("abc")

@@ -147,3 +147,34 @@ def test_bad_input():
     bad[2, 3] = np.nan
     with pytest.raises(ValueError, match=r"search contains a non-finite value nan at index \(2, 3\)"):
         least_squares_matching(g[:9, :9], bad, (4.0, 4.0))
+
+
+# -- input handling (red-team audit) --------------------------------------------------------------
+
+@pytest.mark.parametrize("kwargs, text", [
+    ({"max_iter": 0}, "max_iter must be an integer ≥ 1, got 0"),      # was UnboundLocalError
+    ({"max_iter": 0, "check": False}, "max_iter must be an integer ≥ 1, got 0"),
+    ({"tol": np.nan}, "tol must be finite, got nan"),
+])
+def test_iteration_controls_are_checked(kwargs, text):
+    with pytest.raises(ValueError, match=text):
+        least_squares_matching(_template(TRUE), _search(), (31.0, 30.0), **kwargs)
+
+
+@pytest.mark.parametrize("start", [(3.0, 3.0), (-50.0, 30.0)])
+def test_a_start_outside_the_search_image_is_not_called_a_divergence(start):
+    with pytest.raises(ConvergenceError, match=r"cannot start: the patch at the initial "
+                                               r"position .* does not lie inside the search "
+                                               r"image of 64 × 64 pixels") as info:
+        least_squares_matching(_template(TRUE), _search(), start)
+    assert "diverged" not in str(info.value) and info.value.history.shape == (1, 8)
+
+
+def test_complex_or_text_images_are_refused():
+    f, g = _template(TRUE), _search()
+    with pytest.raises(ValueError, match="template must be real, got complex values"):
+        least_squares_matching(f + 0j, g, (31.0, 30.0))
+    with pytest.raises(ValueError, match="search must be real, got complex values"):
+        least_squares_matching(f, g * (1 + 1e-3j), (31.0, 30.0))
+    with pytest.raises(ValueError, match="initial must be numeric, got 'ab'"):
+        least_squares_matching(f, g, "ab")

@@ -470,3 +470,49 @@ def test_plane_bad_input():
         fit_plane([[0, 0, 0], [1, 1, 1]])
     with pytest.raises(ValueError, match="non-finite"):
         plane_through_points([0, 0, np.nan], [1, 0, 0], [0, 1, 0])
+
+
+# -- input handling (red-team audit) --------------------------------------------------------------
+
+@pytest.mark.parametrize("pts, text", [
+    ([[0, 0], [1, 0], [0, 1], [1, 1], [1, 0], [0, 0]], "at least 5 distinct points, got 4"),
+    ([[0, 0], [1, 0], [2, 0], [3, 0], [1, 1]], "do not determine a conic"),   # 4 on a line
+    ([[0, 0], [1, 0], [2, 0], [3, 0], [0, 1], [1, 1], [2, 1], [3, 1]], "pair of straight lines"),
+])
+def test_fit_ellipse_refuses_point_sets_without_one_conic(pts, text):
+    """4 distinct points among 6 gave an arbitrary ellipse with σ0 = 0; 8 points on two
+    parallel lines one with a = 8515, b = 0.5."""
+    with pytest.raises(DegenerateGeometryError, match=text):
+        fit_ellipse(np.array(pts, float))
+
+
+def test_fit_ellipse_through_exactly_five_points_still_works():
+    t = np.array([0.1, 1.3, 2.2, 3.9, 5.0])
+    p = np.column_stack([3 + 5 * np.cos(t), -1 + 2 * np.sin(t)])
+    fit = fit_ellipse(p)
+    np.testing.assert_allclose(fit.centre, [3.0, -1.0], atol=1e-9)
+    np.testing.assert_allclose(fit.axes, [5.0, 2.0], atol=1e-9)
+
+
+@pytest.mark.parametrize("args, text", [
+    (([[0, 0, 0], [5, 5, 5]], [1, 0, 0], [0, 1, 0]), r"p1 has shape \(2, 3\); expected \(3,\)"),
+    (([0, 0, 0], [1, 0], [0, 1, 0]), r"p2 has shape \(2,\); expected \(3,\)"),
+    (([0, 0, 0], [1, 0, 0], "abc"), r"p3 must be numeric"),
+])
+def test_plane_through_points_needs_one_point_each(args, text):
+    with pytest.raises(ValueError, match=text):   # an (N, 3) argument used to lose rows 1 …
+        plane_through_points(*args)
+
+
+def test_image_functions_refuse_complex_and_text():
+    img = _scene()
+    with pytest.raises(ValueError, match="image must be real, got complex values"):
+        log_filter(img + 1j, 1.0)
+    with pytest.raises(ValueError, match=r"image must be numeric, got 'a' at index \(0, 0\)"):
+        log_filter([["a"] * 5] * 5, 1.0)
+    with pytest.raises(ValueError, match="image must be numeric, got 'a'"):
+        moment_threshold(["a", "b"])
+    with pytest.raises(ValueError, match="max_iter must be an integer ≥ 1, got 0"):
+        fit_circle(np.column_stack([np.cos([0, 1, 2, 3.0]), np.sin([0, 1, 2, 3.0])]), max_iter=0)
+    with pytest.raises(ValueError, match="tol must be > 0, got -1.0"):
+        fit_circle(np.column_stack([np.cos([0, 1, 2, 3.0]), np.sin([0, 1, 2, 3.0])]), tol=-1.0)

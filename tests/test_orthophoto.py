@@ -406,3 +406,58 @@ def test_height_error_and_plane_error_formulas_agree_with_monoplotting(c, H, h, 
     on_plane = pl.monoplot(top, X0, np.eye(3), c, Z=0.0)
     assert math.isclose(on_plane[0] - R_g, float(dp.plane_rectification_error().subs(subs)),
                         rel_tol=1e-9)
+
+
+# -- input handling (red-team audit) --------------------------------------------------------------
+
+def test_visibility_bounds_the_number_of_ray_steps(monkeypatch):
+    """step=1e-7 used to march 5·10⁷ steps one by one (a hang); a too small step now raises."""
+    dsm = op.DTM([[0, 0, 10.0, 0, 0]] * 5, (-2.0, 2.0), 1.0, order=1)
+    cam = op.FrameCamera([50.0, 0, 100], np.eye(3), 50.0, 201, 201, 0.01)
+    monkeypatch.setattr(op, "MAX_RAY_STEPS", 1000)
+    with pytest.raises(ValueError, match=r"step = 0.001 would need 5.1e\+03 samples along the "
+                                         r"longest ray .* MAX_RAY_STEPS = 1,000"):
+        op.visibility(cam, dsm, (3, 3), (-1.0, 1.0), 1.0, step=1e-3)
+    monkeypatch.undo()
+    with pytest.raises(ValueError, match="use a larger step"):
+        op.visibility(cam, dsm, (3, 3), (-1.0, 1.0), 1.0, step=1e-7)
+    # 5·10⁴ steps per ray (3.8 s before, one step at a time): the same answer as a coarse step
+    np.testing.assert_array_equal(op.visibility(cam, dsm, (3, 3), (-1.0, 1.0), 1.0, step=1e-4),
+                                  op.visibility(cam, dsm, (3, 3), (-1.0, 1.0), 1.0, step=0.01))
+
+
+@pytest.mark.parametrize("step", [0.05, 0.3])
+def test_visibility_in_blocks_of_steps_equals_marching_step_by_step(step):
+    cam, dsm = _box_camera(), _box_dsm(order=1)
+    shape, origin = (60, 70), (20.5, 69.5)
+    vis = op.visibility(cam, dsm, shape, origin, 1.0, step=step)
+    # the plain loop over the steps of every ray (the implementation before the blocks)
+    grid = output_grid(shape, origin, 1.0).reshape(-1, 2)
+    P = np.column_stack([grid, dsm.height(grid)])
+    ray = cam.X0 - P
+    t_top = np.clip((dsm.heights.max() - P[:, 2]) / ray[:, 2], 0.0, 1.0)
+    plan = np.hypot(ray[:, 0], ray[:, 1]) * t_top
+    ref = np.ones(len(P), bool)
+    active = np.flatnonzero(plan > 0)
+    for k in range(1, int(np.ceil(plan.max() / step)) + 1):
+        active = active[(k - 1) * step < plan[active]]
+        t = np.minimum(k * step / plan[active], 1.0) * t_top[active]
+        q = P[active] + t[:, None] * ray[active]
+        hidden = q[:, 2] < dsm._lookup(q[:, :2]) - 1e-6
+        ref[active[hidden]] = False
+        active = active[~hidden]
+    assert (~ref).sum() > 50
+    np.testing.assert_array_equal(vis, ref.reshape(shape))
+
+
+def test_dtm_keeps_its_own_copy_of_the_heights():
+    heights = np.zeros((3, 3))
+    dtm = op.DTM(heights, (0.0, 2.0), 1.0)
+    heights[1, 1] = 100.0                       # the caller's array changes afterwards
+    assert dtm.heights[1, 1] == 0.0 and dtm.height([1.0, 1.0]) == 0.0
+
+
+@pytest.mark.parametrize("width", ["a", np.nan, 2.5, True])
+def test_frame_camera_width_must_be_a_whole_number_of_pixels(width):
+    with pytest.raises(ValueError, match="width must be a positive number of pixels, got"):
+        op.FrameCamera((0, 0, 1), np.eye(3), 50.0, width, 10, 0.01)

@@ -136,3 +136,39 @@ def test_bad_input():
         space_resection(X[:2], xy[:2], C, initial=np.zeros(6))
     with pytest.raises(TypeError, match="distortion must be"):
         space_resection(X, xy, C, distortion={"A1": 1e-5})
+
+
+# -- input handling (red-team audit) --------------------------------------------------------------
+
+@pytest.mark.parametrize("kwargs, text", [
+    ({"max_iter": 0}, "max_iter must be an integer ≥ 1, got 0"),      # was UnboundLocalError
+    ({"max_iter": 0, "check": False}, "max_iter must be an integer ≥ 1, got 0"),
+    ({"tol": -1.0}, "tol must be > 0, got -1.0"),                      # ran 50 iterations, then
+    ({"tol": np.nan}, "tol must be finite, got nan"),                  # "did not converge"
+    ({"initial": "abcdef"}, "initial must be numeric, got 'abcdef'"),
+])
+def test_iteration_controls_and_start_are_checked(kwargs, text):
+    rng = np.random.default_rng(47)
+    X = _scene(rng)
+    xy = project(X, X0_TRUE, rotation_opk(*ANGLES), C)
+    with pytest.raises(ValueError, match=text):
+        space_resection(X, xy, C, **kwargs)
+
+
+def test_divergence_message_has_no_advice_space_resection_cannot_follow():
+    """project's "pass return_valid=True" is not an option of space_resection."""
+    rng = np.random.default_rng(45)
+    X = _scene(rng)
+    xy = project(X, X0_TRUE, rotation_opk(*ANGLES), C)
+    with pytest.raises(ConvergenceError, match=r"diverged in iteration 1: X\[\d+\] = .* is not "
+                                               r"in front of the camera") as info:
+        space_resection(X, xy, C, initial=[0.0, 0.0, -40.0, 0.0, 0.0, 0.0])
+    assert "return_valid" not in str(info.value) and "initial values" in str(info.value)
+
+
+def test_complex_observations_are_refused():
+    rng = np.random.default_rng(48)
+    X = _scene(rng)
+    xy = project(X, X0_TRUE, rotation_opk(*ANGLES), C)
+    with pytest.raises(ValueError, match=r"xy must be real .*got complex values"):
+        space_resection(X, xy + 1j, C)

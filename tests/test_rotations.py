@@ -144,3 +144,24 @@ def test_testing_helpers_detect_degrees_and_transpose():
     R = pl.rotation_opk(0.2, 0.1, 0.4)
     with pytest.raises(AssertionError, match="transposed"):
         assert_rotation_equal(R.T, R)
+
+
+# -- input handling (red-team audit) --------------------------------------------------------------
+
+@pytest.mark.parametrize("call, text", [
+    (lambda: pl.rotation_opk("a", 0.0, 0.0), "omega must be numeric, got 'a'"),
+    (lambda: pl.rotation_pok(0.0, 0.0, [1.0, "x"]), r"kappa must be numeric, got 'x' at index \(1,\)"),
+    (lambda: pl.rotation_opk(0.0, 1 + 1j, 0.0), r"phi must be real, got complex values"),
+    (lambda: pl.rotation_opk([0.1, 0.2], [0.1, 0.2, 0.3], 0.0),
+     r"omega, phi, kappa have shapes \[\(2,\), \(3,\), \(\)\], which do not broadcast"),
+    (lambda: pl.rotation_2d(np.nan), r"alpha contains a non-finite value nan"),
+    (lambda: pl.rotation_2d("x"), "alpha must be numeric, got 'x'"),
+    (lambda: pl.opk_from_rotation("abc"), r"R must be numeric with shape \(3, 3\), got 'abc'"),
+    (lambda: pl.opencv_pose_from_exterior("abc", np.eye(3)),
+     r"X0 must be numeric with shape \(3,\), got 'abc'"),
+    (lambda: pl.opencv_pose_from_exterior(np.array([1j, 0, 0]), np.eye(3)),
+     r"X0 must be real with shape \(3,\), got complex values \(e.g. 1j\)"),
+])
+def test_bad_angles_and_matrices_are_named(call, text):
+    with pytest.raises(ValueError, match=text):
+        call()

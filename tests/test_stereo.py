@@ -429,3 +429,65 @@ def test_normal_case_round_trip(X, Y, h, B, c):
     xy2 = _pinhole(P[None], np.array([B, 0.0, 0.0]), np.eye(3), c)
     np.testing.assert_allclose(normal_case_points(xy1, xy2, c, B)[0], P, rtol=1e-9, atol=1e-9)
     assert height_from_parallax(xy1[0, 0] - xy2[0, 0], c, B) == pytest.approx(-h, rel=1e-12)
+
+
+# -- input handling (red-team audit) --------------------------------------------------------------
+
+def test_relative_orientation_of_swapped_images_says_so():
+    """Images swapped (or bx of the wrong sign): the coplanarity condition is fitted exactly
+    (σ0 ≈ 1e-15, converged) but every model point lies behind the cameras (was: NaN model)."""
+    X, base, angles, R2, c, xy1, xy2 = _model_pair(np.random.default_rng(101), 8)
+    with pytest.raises(PointBehindCameraError, match=r"all 8 model points .* lie behind the "
+                                                     r"cameras.*Flip the sign of bx"):
+        relative_orientation(xy2, xy1, c, bx=1.0)
+    ro = relative_orientation(xy2, xy1, c, bx=-1.0)            # flipping bx is the fix
+    assert ro.converged and np.isfinite(ro.model).all()
+
+
+def test_relative_orientation_of_identical_images_is_zero_parallax():
+    X, base, angles, R2, c, xy1, xy2 = _model_pair(np.random.default_rng(102), 8)
+    with pytest.raises(DegenerateGeometryError, match="zero parallax: every pair of rays is "
+                                                      "parallel") as info:
+        relative_orientation(xy1, xy1, c)
+    assert "badly distributed" not in str(info.value)
+
+
+@pytest.mark.parametrize("kwargs, text", [
+    ({"max_iter": 0}, "max_iter must be an integer ≥ 1, got 0"),      # was UnboundLocalError
+    ({"max_iter": 0, "check": False}, "max_iter must be an integer ≥ 1, got 0"),
+    ({"tol": -1.0}, "tol must be > 0, got -1.0"),
+    ({"tol": np.nan}, "tol must be finite, got nan"),
+    ({"initial": "abcde"}, "initial must be numeric, got 'abcde'"),
+])
+def test_relative_orientation_checks_its_controls(kwargs, text):
+    X, base, angles, R2, c, xy1, xy2 = _model_pair(np.random.default_rng(103), 8)
+    with pytest.raises(ValueError, match=text):
+        relative_orientation(xy1, xy2, c, bx=base[0], **kwargs)
+
+
+def test_forward_intersection_min_angle_must_be_a_non_negative_number():
+    eye = np.eye(3)
+    xy = [[[1.0, 0.5]], [[-1.0, 0.5]]]
+    for bad, text in ((np.nan, "min_angle must be finite, got nan"),
+                      (-1.0, "min_angle must be ≥ 0")):
+        with pytest.raises(ValueError, match=text):   # NaN / −1 switched the check off
+            forward_intersection(xy, [[0, 0, 0], [20.0, 0, 0]], [eye, eye], 100.0, min_angle=bad)
+
+
+def test_tiny_base_and_tiny_parallax():
+    eye = np.eye(3)
+    E = essential_matrix([0, 0, 0], eye, [1e-300, 0, 0], eye)      # was "X01 = X02"
+    assert np.isfinite(E).all() and np.abs(E).max() > 0
+    with pytest.raises(DegenerateGeometryError, match="X01 = X02"):
+        essential_matrix([1.0, 2, 3], eye, [1.0, 2, 3], eye)
+    with pytest.raises(DegenerateGeometryError, match="below the rounding"):
+        essential_matrix([1e6, 0, 0], eye, [1e6 + 1e-7, 0, 0], eye)
+    Rn = normal_case_rotation([0, 0, 0], eye, [1e-300, 0, 0], eye)
+    np.testing.assert_allclose(Rn, eye, atol=1e-15)
+    with pytest.raises(DegenerateGeometryError, match=r"px\[0\] = 5e-324 is so small that Z = "
+                                                      r"−c·B/px' overflows"):
+        height_from_parallax(5e-324, 100.0, 20.0)                # was −inf
+    with pytest.raises(DegenerateGeometryError, match="overflows"):
+        normal_case_points([5e-324, 0.0], [0.0, 0.0], 100.0, 20.0)
+    with pytest.raises(ValueError, match="px must be numeric, got 'a'"):
+        height_from_parallax("a", 100.0, 20.0)

@@ -367,3 +367,38 @@ def test_cross_ratio_errors():
         cross_ratio(0.0, [1.0, 0.0], 2.0, 3.0)
     with pytest.raises(ValueError, match="non-finite"):
         cross_ratio(0.0, np.nan, 2.0, 3.0)
+
+
+# ---------------------------------------------------------------- input handling (red-team audit)
+def test_projective_minimal_case_with_three_collinear_dst_points():
+    """Four pairs with three dst points on a line: the linear start sent a point to w = 0 and
+    LAPACK failed ('SVD did not converge', with DLASCL messages on stderr)."""
+    src = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]
+    dst = [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [0.0, 1.0]]
+    with pytest.raises(DegenerateGeometryError,
+                       match=r"three of the points collinear \(dst points 0, 1, 2\)"):
+        ProjectiveTransform.from_estimate(src, dst)
+    with pytest.raises(DegenerateGeometryError, match=r"\(src points 0, 1, 2\)"):
+        ProjectiveTransform.from_estimate(dst, src)
+    # a fifth point makes the same three collinear dst points harmless
+    t = ProjectiveTransform(a0=1, a1=2, a2=0.3, b0=-1, b1=0.1, b2=1.5, c1=0.05, c2=-0.02)
+    src5 = np.array([[0, 0], [1, 0], [2, 0], [0, 1], [0.5, 0.7]])
+    est = ProjectiveTransform.from_estimate(src5, t(src5))
+    np.testing.assert_allclose(est.matrix, t.matrix, atol=1e-9)
+
+
+def test_newton_inverse_checks_tolerance_and_iteration_limit():
+    t = BilinearTransform(a3=0.1)
+    with pytest.raises(ValueError, match="tol must be > 0, got -1.0"):
+        NewtonInverse(t, tol=-1.0)
+    with pytest.raises(ValueError, match="tol must be finite, got nan"):
+        t.inverse_with(tol=np.nan)
+    with pytest.raises(ValueError, match="max_iter must be an integer ≥ 1, got 0"):
+        t.inverse_with(max_iter=0)
+
+
+def test_cross_ratio_names_a_non_numeric_point():
+    with pytest.raises(ValueError, match="a must be numeric, got 'a'"):
+        cross_ratio("a", 1, 2, 3)
+    with pytest.raises(ValueError, match=r"c must be real, got complex values"):
+        cross_ratio(0.0, 1.0, 2.0 + 1j, 3.0)

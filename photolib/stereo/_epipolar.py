@@ -14,7 +14,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from photolib._validate import as_points, as_rotation, as_scalar, as_vector3
+from photolib._validate import (
+    as_float_array,
+    as_points,
+    as_rotation,
+    as_scalar,
+    as_vector3,
+    check_finite,
+)
 from photolib.collinearity import PointBehindCameraError
 from photolib.stereo._rays import _image_vectors
 from photolib.transforms._base import DegenerateGeometryError
@@ -24,6 +31,22 @@ from photolib.transforms._base import DegenerateGeometryError
 
 def _skew(v):
     return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+
+
+def _base(X01, X02, what: str) -> tuple[np.ndarray, float]:
+    """The base ``b = X02 − X01`` and its length (without underflow for a tiny base);
+    ``DegenerateGeometryError`` for a zero base, or one lost in the rounding of X01, X02."""
+    b = X02 - X01
+    big = float(np.max(np.abs(b)))
+    if big == 0.0:
+        raise DegenerateGeometryError(f"X01 = X02: the base is zero, {what}")
+    length = big * float(np.linalg.norm(b / big))
+    size = max(float(np.max(np.abs(X01))), float(np.max(np.abs(X02))))
+    if length <= 1e-12 * size:
+        raise DegenerateGeometryError(
+            f"the base |X02 − X01| = {length:.3g} is below the rounding of the projection "
+            f"centres (coordinates up to {size:.3g}): practically a zero base, {what}")
+    return b, length
 
 
 def essential_matrix(X01, R1, X02, R2) -> np.ndarray:
@@ -60,9 +83,7 @@ def essential_matrix(X01, R1, X02, R2) -> np.ndarray:
     """
     X01, X02 = as_vector3(X01, "X01"), as_vector3(X02, "X02")
     R1, R2 = as_rotation(R1, "R1"), as_rotation(R2, "R2")
-    b = X02 - X01
-    if np.linalg.norm(b) == 0:
-        raise DegenerateGeometryError("X01 = X02: the base is zero, there is no epipolar geometry")
+    b, _ = _base(X01, X02, "there is no epipolar geometry")
     return R1.T @ _skew(b) @ R2
 
 
@@ -101,9 +122,10 @@ def fundamental_matrix(E, c1, c2, x01=0.0, y01=0.0, x02=0.0, y02=0.0) -> np.ndar
     >>> float(np.array([2.0, 1.0, 1.0]) @ F @ np.array([-3.0, 1.0, 1.0]))
     0.0
     """
-    E = np.asarray(E, dtype=float)
-    if E.shape != (3, 3) or not np.all(np.isfinite(E)):
+    E = as_float_array(E, "E", " with shape (3, 3)")
+    if E.shape != (3, 3):
         raise ValueError(f"E must be a finite (3, 3) matrix, got shape {E.shape}")
+    check_finite(E, "E")
     return _interior_matrix(c1, x01, y01, "1").T @ E @ _interior_matrix(c2, x02, y02, "2")
 
 
@@ -138,9 +160,10 @@ def epipolar_lines(F, xy, image: int = 2) -> np.ndarray:
     """
     if image not in (1, 2):
         raise ValueError(f"image must be 1 or 2, got {image!r}")
-    F = np.asarray(F, dtype=float)
-    if F.shape != (3, 3) or not np.all(np.isfinite(F)):
+    F = as_float_array(F, "F", " with shape (3, 3)")
+    if F.shape != (3, 3):
         raise ValueError(f"F must be a finite (3, 3) matrix, got shape {F.shape}")
+    check_finite(F, "F")
     pts, single = as_points(xy, 2, "xy")
     h = np.column_stack([pts, np.ones(len(pts))])
     lines = h @ F if image == 2 else h @ F.T
@@ -178,11 +201,13 @@ def normal_case_rotation(X01, R1, X02, R2) -> np.ndarray:
     """
     X01, X02 = as_vector3(X01, "X01"), as_vector3(X02, "X02")
     R1, R2 = as_rotation(R1, "R1"), as_rotation(R2, "R2")
-    b = X02 - X01
+    b, _ = _base(X01, X02, "no normal case")
     nb = np.linalg.norm(b)
-    if nb == 0:
-        raise DegenerateGeometryError("X01 = X02: zero base, no normal case")
-    ex = b / nb
+    if nb > 0:
+        ex = b / nb
+    else:  # |b|² underflows (a base below 1e-154): scale first
+        ex = b / np.max(np.abs(b))
+        ex /= np.linalg.norm(ex)
     z = R1[:, 2] + R2[:, 2]
     ez = z - (z @ ex) * ex
     if np.linalg.norm(ez) <= 1e-9 * max(np.linalg.norm(z), 1e-300):

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from photolib._validate import as_points, as_rotation, as_vector3
+from photolib._validate import as_float_array, as_points, as_rotation, as_scalar, as_vector3
 from photolib.collinearity import PointBehindCameraError, project
 from photolib.stereo._rays import _image_vectors
 from photolib.transforms._base import DegenerateGeometryError
@@ -34,7 +34,7 @@ class ForwardIntersection:
 
 
 def _per_camera(value, K, name):
-    arr = np.asarray(value, dtype=float)
+    arr = as_float_array(value, name)
     if arr.ndim == 0:
         arr = np.full(K, float(arr))
     if arr.shape != (K,):
@@ -86,7 +86,10 @@ def forward_intersection(xy, X0, R, c, x0=0.0, y0=0.0, *, min_angle: float = 1e-
     >>> np.round(res.points, 9).tolist(), bool(res.miss[0] < 1e-9)
     ([[10.0, 5.0, -1000.0]], True)
     """
-    obs = np.asarray(xy, dtype=float)
+    min_angle = as_scalar(min_angle, "min_angle")
+    if min_angle < 0:
+        raise ValueError(f"min_angle must be ≥ 0 (radians), got {min_angle!r}")
+    obs = as_float_array(xy, "xy")
     if obs.ndim == 2 and obs.shape[-1] == 2:
         obs = obs[:, None, :]
     if obs.ndim != 3 or obs.shape[-1] != 2:
@@ -95,11 +98,11 @@ def forward_intersection(xy, X0, R, c, x0=0.0, y0=0.0, *, min_angle: float = 1e-
     if K < 2:
         raise ValueError(f"forward intersection needs at least 2 images, got {K}")
     obs = np.stack([as_points(obs[k], 2, f"xy[{k}]")[0] for k in range(K)])
-    centres = np.asarray(X0, dtype=float)
+    centres = as_float_array(X0, "X0")
     if centres.shape != (K, 3):
         raise ValueError(f"X0 has shape {centres.shape}; expected ({K}, 3) for {K} images")
     centres = np.stack([as_vector3(centres[k], f"X0[{k}]") for k in range(K)])
-    rots = np.asarray(R, dtype=float)
+    rots = as_float_array(R, "R")
     if rots.shape != (K, 3, 3):
         raise ValueError(f"R has shape {rots.shape}; expected ({K}, 3, 3) for {K} images")
     rots = np.stack([as_rotation(rots[k], f"R[{k}]") for k in range(K)])

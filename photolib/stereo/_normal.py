@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from photolib._validate import as_points, as_scalar
+from photolib._validate import as_float_array, as_points, as_scalar
 from photolib.collinearity import PointBehindCameraError
 from photolib.transforms._base import DegenerateGeometryError
 
@@ -24,7 +24,7 @@ from photolib.transforms._base import DegenerateGeometryError
 # -- normal case -----------------------------------------------------------------------------------
 
 def _parallax(px, name="px"):
-    px = np.asarray(px, dtype=float)
+    px = as_float_array(px, name)
     if not np.all(np.isfinite(px)):
         raise ValueError(f"{name} contains a non-finite value: {px.ravel().tolist()[:5]}")
     if np.any(px == 0):
@@ -76,8 +76,20 @@ def height_from_parallax(px, c, B):
     c = as_scalar(c, "c", positive=True)
     B = as_scalar(B, "B", positive=True)
     px = _parallax(px)
-    Z = -c * B / px
+    with np.errstate(over="ignore"):
+        Z = -c * B / px
+    _check_overflow(Z, px, "px")
     return float(Z) if Z.ndim == 0 else Z
+
+
+def _check_overflow(values, px, name):
+    """A parallax so small (e.g. 5e-324) that −c·B/px' overflows is a point at infinity."""
+    if not np.all(np.isfinite(values)):
+        rows = np.asarray(values).reshape(np.size(px), -1)  # one row per parallax
+        i = int(np.flatnonzero(~np.isfinite(rows).all(axis=1))[0])
+        raise DegenerateGeometryError(
+            f"{name}[{i}] = {float(np.ravel(px)[i])!r} is so small that Z = −c·B/px' overflows: "
+            "practically zero parallax, a point at infinity")
 
 
 def normal_case_points(xy1, xy2, c, B, x0=0.0, y0=0.0):
@@ -119,7 +131,9 @@ def normal_case_points(xy1, xy2, c, B, x0=0.0, y0=0.0):
     B = as_scalar(B, "B", positive=True)
     x0, y0 = as_scalar(x0, "x0"), as_scalar(y0, "y0")
     px = _parallax(a[:, 0] - b[:, 0], "px' = x'1 − x'2")
-    out = np.column_stack([B * (a[:, 0] - x0) / px, B * (a[:, 1] - y0) / px, -c * B / px])
+    with np.errstate(over="ignore"):
+        out = np.column_stack([B * (a[:, 0] - x0) / px, B * (a[:, 1] - y0) / px, -c * B / px])
+    _check_overflow(out, px, "px' = x'1 − x'2")
     return out[0] if single else out
 
 

@@ -15,7 +15,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from photolib._validate import as_point_pairs, as_points, as_scalar
+from photolib._validate import (
+    as_float_array,
+    as_max_iter,
+    as_point_pairs,
+    as_points,
+    as_scalar,
+    as_tolerance,
+)
+from photolib.collinearity import PointBehindCameraError
 from photolib.collinearity import project  # noqa: F401 - used by the examples (doctests)
 from photolib.rotations import opk_from_rotation, rotation_opk
 from photolib.stereo._intersection import forward_intersection
@@ -107,6 +115,16 @@ def relative_orientation(xy1, xy2, c, bx: float = 1.0, x0=0.0, y0=0.0, initial=N
     -------
     RelativeOrientation
 
+    Raises
+    ------
+    DegenerateGeometryError
+        Zero parallax (identical images) or points that do not determine the five unknowns.
+    PointBehindCameraError
+        If the converged orientation puts every model point behind the cameras: the images
+        are swapped, or bx has the wrong sign.
+    ConvergenceError
+        No convergence within ``max_iter`` (unless ``check=False``).
+
     Notes
     -----
     Gauss–Newton on the coplanarity condition, scaled to a y-parallax (image unit):
@@ -134,7 +152,8 @@ def relative_orientation(xy1, xy2, c, bx: float = 1.0, x0=0.0, y0=0.0, initial=N
     if bx == 0:
         raise ValueError("bx must be ≠ 0: it fixes the scale of the model")
     x0, y0 = as_scalar(x0, "x0"), as_scalar(y0, "y0")
-    q = np.zeros(5) if initial is None else np.asarray(initial, dtype=float)
+    tol, max_iter = as_tolerance(tol), as_max_iter(max_iter)
+    q = np.zeros(5) if initial is None else as_float_array(initial, "initial")
     if q.shape != (5,) or not np.all(np.isfinite(q)):
         raise ValueError(f"initial must be 5 finite values (by, bz, ω2, φ2, κ2), got {q.tolist()}")
     r1 = _image_vectors(a, c, x0, y0)
@@ -143,7 +162,16 @@ def relative_orientation(xy1, xy2, c, bx: float = 1.0, x0=0.0, y0=0.0, initial=N
     for it in range(1, max_iter + 1):
         f, J = coplanarity_residuals(q, r1, x2, bx, c)
         sv = np.linalg.svd(J, compute_uv=False)
-        if sv[-1] <= 1e-10 * sv[0]:
+        if sv[-1] <= 1e-10 * sv[0] or not sv[0] > 0:
+            r2 = x2 @ rotation_opk(*q[2:]).T
+            sin = np.linalg.norm(np.cross(r1, r2), axis=1) / (
+                np.linalg.norm(r1, axis=1) * np.linalg.norm(r2, axis=1))
+            if np.max(sin) <= 1e-9:
+                raise DegenerateGeometryError(
+                    "zero parallax: every pair of rays is parallel (largest angle "
+                    f"{np.max(sin):.3g} rad), so xy1 and xy2 are the same image up to a rotation "
+                    "and there is no base to orient (identical images, or the two exposures "
+                    "from one point); the relative orientation needs x-parallaxes")
             raise DegenerateGeometryError(
                 "the coplanarity equations do not determine (by, bz, ω2, φ2, κ2): the points "
                 f"are badly distributed (condition {sv[0] / max(sv[-1], 1e-300):.3g}); use ≥ 5 "
@@ -167,6 +195,15 @@ def relative_orientation(xy1, xy2, c, bx: float = 1.0, x0=0.0, y0=0.0, initial=N
     base = np.array([bx, q[0], q[1]])
     inter = forward_intersection(np.stack([a, b2]), np.stack([np.zeros(3), base]),
                                  np.stack([np.eye(3), R2]), c, x0, y0, return_valid=True)
+    # a converged orientation with every intersecting pair of rays behind the cameras (λ ≤ 0;
+    # not the parallel ones) is the mirror solution: the last iterate of check=False is kept
+    behind = ~inter.valid & (inter.angle >= 1e-6)
+    if converged and behind.any() and not inter.valid.any():
+        raise PointBehindCameraError(
+            f"the relative orientation fits the coplanarity condition (σ0 = {sigma0:.3g}), but "
+            f"all {int(behind.sum())} model points with intersecting rays lie behind the cameras: "
+            f"image 2 is on the other side of image 1 than bx = {bx:g} says. Flip the sign of "
+            "bx, or swap the images (xy1 must be the left image for bx > 0)")
     return RelativeOrientation(base=base, R2=R2, omega=float(q[2]), phi=float(q[3]),
                                kappa=float(q[4]), model=inter.points, residuals=f,
                                sigma0=sigma0, covariance=cov, iterations=it,

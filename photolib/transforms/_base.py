@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from photolib._validate import as_point_pairs, as_points
+from photolib._validate import as_max_iter, as_point_pairs, as_points, as_tolerance
 
 __all__ = [
     "ComposedTransform",
@@ -167,7 +167,8 @@ class NewtonInverse(PlaneTransform):
     """
 
     def __init__(self, forward: PlaneTransform, tol: float = 1e-12, max_iter: int = 50):
-        self.forward, self.tol, self.max_iter = forward, float(tol), int(max_iter)
+        self.forward = forward
+        self.tol, self.max_iter = as_tolerance(tol), as_max_iter(max_iter)
         self.n_params = forward.n_params
 
     @property

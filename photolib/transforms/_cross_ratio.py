@@ -4,11 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from photolib._validate import as_float_array
+
 __all__ = ["cross_ratio"]
 
 
 def _as_line_coordinates(a, b, c, d, atol):
-    pts = [np.asarray(p, dtype=float) for p in (a, b, c, d)]
+    pts = [as_float_array(p, name) for p, name in zip((a, b, c, d), "abcd")]
     shapes = {p.shape for p in pts}
     if len(shapes) != 1:
         raise ValueError(f"a, b, c, d must have the same shape, got {[p.shape for p in pts]}")

@@ -36,6 +36,20 @@ def _check_not_collinear(points, name, cls):
             f"{cls}: the {name} points are collinear; the transformation is not determined")
 
 
+def _check_minimal_projective(src, dst, cls):
+    """Four point pairs fix the 8 parameters only if no three of the four points, in src and
+    in dst, are collinear (else the linear solution sends a point to infinity, w = 0)."""
+    for pts, name in ((src, "src"), (dst, "dst")):
+        for skip in range(4):
+            tri = np.delete(pts, skip, axis=0)
+            if collinearity_ratio(tri) < 1e-9:
+                k = [n for n in range(4) if n != skip]
+                raise DegenerateGeometryError(
+                    f"{cls}: degenerate point geometry, three of the points collinear ({name} "
+                    f"points {k[0]}, {k[1]}, {k[2]}); with only four point pairs the 8 "
+                    "parameters are then not determined")
+
+
 def _solve(A, b, cls):
     """Least-squares solution of ``A·x = b`` with a rank check naming the class."""
     sv = np.linalg.svd(A, compute_uv=False)
@@ -349,6 +363,8 @@ class ProjectiveTransform(_MatrixTransform):
         src, dst = check_pairs(src, dst, 4, cls.__name__)
         _check_not_collinear(src, "src", cls.__name__)
         _check_not_collinear(dst, "dst", cls.__name__)
+        if len(src) == 4:
+            _check_minimal_projective(src, dst, cls.__name__)
         cs, ss = hartley_normalisation(src)
         cd, sd = hartley_normalisation(dst)
         u, U = ss * (src - cs), sd * (dst - cd)
@@ -363,6 +379,15 @@ class ProjectiveTransform(_MatrixTransform):
                 f"{cls.__name__}: degenerate point geometry (three of the points collinear?); "
                 "the 8 parameters are not determined")
         h = Vt[-1]
+        H = h.reshape(3, 3)
+        w = u @ H[2, :2] + H[2, 2]
+        at_infinity = ~(np.abs(w) > 1e-12 * (np.abs(u) @ np.abs(H[2, :2]) + abs(H[2, 2])))
+        if at_infinity.any():
+            k = int(np.flatnonzero(at_infinity)[0])
+            raise DegenerateGeometryError(
+                f"{cls.__name__}: the linear solution maps src point {k} {src[k].tolist()} to "
+                "infinity (denominator w = 0): the point geometry is degenerate (e.g. three "
+                "points collinear in src but not in dst, or the other way round)")
         for _ in range(max_iter):  # Gauss–Newton on the geometric residuals, minimum-norm steps
             H = h.reshape(3, 3)
             w = u @ H[2, :2] + H[2, 2]
@@ -371,6 +396,10 @@ class ProjectiveTransform(_MatrixTransform):
             J[0::2] = np.column_stack([u, one, zero, zero, zero, -XY[:, :1] * u, -XY[:, 0]])
             J[1::2] = np.column_stack([zero, zero, zero, u, one, -XY[:, 1:] * u, -XY[:, 1]])
             J /= np.repeat(w, 2)[:, None]
+            if not (np.all(np.isfinite(J)) and np.all(np.isfinite(XY))):
+                raise DegenerateGeometryError(
+                    f"{cls.__name__}: the adjustment sends a src point to infinity (w = 0); the "
+                    "point geometry does not determine a projective transformation")
             dh = np.linalg.lstsq(J, -(XY - U).reshape(-1), rcond=None)[0]
             h = h + dh
             h /= np.linalg.norm(h)
