@@ -24,6 +24,14 @@ __all__ = ["MAX_ELEMENTS", "NOT_ANSWERED", "DecodeError", "decode_value", "encod
 
 MAX_ELEMENTS = 100_000
 MAX_NODES = 20_000
+#: deepest nesting of an expression tree (or of lists)
+MAX_DEPTH = 100
+#: largest |numeric exponent| of one power, integer, rational or float
+MAX_EXPONENT = 64
+#: largest product of the |numeric exponents| along one path from the root (nested powers)
+MAX_POWER = 256
+#: deepest nesting of exponentials (exp, sinh, cosh, powers with a symbolic exponent)
+MAX_EXP_HEIGHT = 2
 
 
 class _NotAnswered:
@@ -51,6 +59,10 @@ def encode_value(value, _depth=0):
         return {"t": "str", "v": value[:20000]}
     if isinstance(value, (int, float)) and not isinstance(value, bool):
         return {"t": "num", "v": repr(float(value))}
+    if isinstance(value, complex):
+        if value.imag != 0:
+            return {"t": "other", "type": "complex number (nonzero imaginary part)"}
+        return {"t": "num", "v": repr(float(value.real))}
     if sp is not None and isinstance(value, sp.MatrixBase):
         if value.rows * value.cols > 400:
             return {"t": "other", "type": "large Matrix"}
@@ -62,13 +74,23 @@ def encode_value(value, _depth=0):
         return {"t": "sympy", "v": _tree(value, sp, [0])}
     np_ = sys.modules.get("numpy")
     if np_ is not None and isinstance(value, np_.generic) and value.ndim == 0:
+        if np_.iscomplexobj(value):
+            if value.imag != 0:
+                return {"t": "other", "type": "complex number (nonzero imaginary part)"}
+            value = value.real
         try:
             return {"t": "num", "v": repr(float(value))}
         except (TypeError, ValueError):
             return {"t": "other", "type": type(value).__name__}
     if np_ is not None and isinstance(value, (list, tuple, np_.ndarray)):
         try:
-            arr = np_.asarray(value, dtype=float)
+            arr = np_.asarray(value)
+            if arr.dtype.kind == "c":
+                if np_.any(arr.imag != 0):
+                    return {"t": "other",
+                            "type": "complex array (nonzero imaginary part)"}
+                arr = arr.real
+            arr = np_.asarray(arr, dtype=float)
         except (TypeError, ValueError):
             arr = None
         if arr is not None:
@@ -117,6 +139,66 @@ def _integer(text) -> int:
     return int(text)
 
 
+def _limits(node, depth=0, count=None):
+    """Check an encoded tree before SymPy sees it; returns ``(exp_height, power)``.
+
+    ``power`` is the product of ``max(1, |exponent|)`` of the numeric powers on the deepest
+    path (what nested ``Pow(…, 64)`` multiply to), ``exp_height`` the nesting of
+    exponentials. Both are bounded, so that building, expanding or sampling an answer in the
+    grader stays cheap.
+    """
+    count = [0] if count is None else count
+    count[0] += 1
+    if count[0] > MAX_NODES:
+        raise DecodeError(f"expression too large (more than {MAX_NODES} nodes)")
+    if depth > MAX_DEPTH:
+        raise DecodeError(f"expression nested deeper than {MAX_DEPTH} levels")
+    if not isinstance(node, dict) or "f" not in node:
+        return 0, 1.0
+    args = node.get("a")
+    if not isinstance(args, list):
+        raise DecodeError("bad expression node")
+    stats = [_limits(a, depth + 1, count) for a in args]
+    name = node["f"]
+    if name == "Pow" and len(args) == 2:
+        (hb, pb), (he, pe) = stats
+        exponent = _literal(args[1])
+        if exponent is None:  # symbolic exponent: an exponential
+            height, power = 1 + max(hb, he), max(pb, pe)
+        else:
+            if abs(exponent) > MAX_EXPONENT:
+                raise DecodeError(f"exponent {exponent:g} larger than {MAX_EXPONENT}")
+            height, power = hb, pb * max(1.0, abs(exponent))
+    elif name in ("exp", "sinh", "cosh"):
+        height = 1 + max((h for h, _ in stats), default=0)
+        power = max((p for _, p in stats), default=1.0)
+    else:
+        height = max((h for h, _ in stats), default=0)
+        power = max((p for _, p in stats), default=1.0)
+    if height > MAX_EXP_HEIGHT:
+        raise DecodeError(f"exponentials nested deeper than {MAX_EXP_HEIGHT}")
+    if power > MAX_POWER:
+        raise DecodeError(f"nested powers multiply to more than {MAX_POWER}")
+    return height, power
+
+
+def _literal(node):
+    """The value of a numeric leaf (integer, rational, float), else None."""
+    if not isinstance(node, dict):
+        return None
+    try:
+        if "i" in node:
+            return float(_integer(node["i"]))
+        if "r" in node:
+            p, q = node["r"]
+            return _integer(p) / _integer(q) if _integer(q) else None
+        if "F" in node:
+            return _number(node["F"])
+    except (ValueError, TypeError, OverflowError):
+        raise DecodeError("bad number in an exponent") from None
+    return None
+
+
 def _decode_tree(node, sp, count):
     count[0] += 1
     if count[0] > MAX_NODES:
@@ -131,6 +213,8 @@ def _decode_tree(node, sp, count):
     if "i" in node:
         return sp.Integer(_integer(node["i"]))
     if "r" in node:
+        if not isinstance(node["r"], list) or len(node["r"]) != 2:
+            raise DecodeError("bad rational")
         p, q = node["r"]
         if _integer(q) == 0:
             raise DecodeError("rational with zero denominator")
@@ -149,13 +233,22 @@ def _decode_tree(node, sp, count):
     if name == "Pow":
         if len(args) != 2:
             raise DecodeError("Pow needs two arguments")
-        if args[1].is_Integer and abs(int(args[1])) > 64:
-            raise DecodeError("integer exponent larger than 64")
+        if args[1].is_number and args[1].is_real and abs(float(args[1])) > MAX_EXPONENT:
+            raise DecodeError(f"exponent larger than {MAX_EXPONENT}")
     func = getattr(sp, name)
-    return func(*args)
+    try:
+        return func(*args)
+    except (TypeError, ValueError, ArithmeticError) as exc:  # e.g. sin with two arguments
+        raise DecodeError(f"{name} cannot take these arguments "
+                          f"({type(exc).__name__}: {str(exc)[:80]})") from None
 
 
-def decode_value(data):
+def _sympy_tree(node, sp, count):
+    _limits(node)
+    return _decode_tree(node, sp, count)
+
+
+def decode_value(data, _depth=0):
     """Rebuild an answer from :func:`encode_value`'s output; whitelisted, never ``eval``.
 
     Returns
@@ -193,18 +286,20 @@ def decode_value(data):
         import sympy as sp
         count = [0]
         if kind == "sympy":
-            return _decode_tree(data.get("v"), sp, count)
+            return _sympy_tree(data.get("v"), sp, count)
         shape, values = data.get("shape"), data.get("v")
         if (not isinstance(shape, list) or len(shape) != 2 or not isinstance(values, list)
                 or not all(isinstance(n, int) and 0 < n <= 20 for n in shape)
                 or shape[0] * shape[1] != len(values)):
             raise DecodeError("matrix answer with inconsistent shape")
-        return sp.Matrix(shape[0], shape[1], [_decode_tree(v, sp, count) for v in values])
+        return sp.Matrix(shape[0], shape[1], [_sympy_tree(v, sp, count) for v in values])
     if kind == "list":
         values = data.get("v")
         if not isinstance(values, list) or len(values) > 1000:
             raise DecodeError("bad list answer")
-        return [decode_value(v) for v in values]
+        if _depth >= 3:
+            raise DecodeError("lists nested deeper than 3 levels")
+        return [decode_value(v, _depth + 1) for v in values]
     if kind == "other":
         return Unsupported(str(data.get("type", "?"))[:80])
     raise DecodeError(f"unknown answer type {str(kind)[:30]!r}")

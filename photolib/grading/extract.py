@@ -22,10 +22,13 @@ from photolib.grading.encode import NOT_ANSWERED, DecodeError, Unsupported, deco
 from photolib.grading.judge import FunctionOutputs
 from photolib.grading.sandbox import RESULT_MIME
 
-__all__ = ["ExtractionError", "build_extraction", "case_from_json", "case_to_json",
-           "parse_extraction"]
+__all__ = ["ExtractionError", "answer_record", "build_extraction", "case_from_json",
+           "case_to_json", "decode_item", "extraction_seconds", "judge_item", "parse_extraction",
+           "record_student_id"]
 
 CALL_SECONDS = 5.0
+VALUE_SECONDS = 5.0
+MAX_ANSWER_BYTES = 16 * 1024 * 1024
 
 
 class ExtractionError(RuntimeError):
@@ -41,12 +44,19 @@ def build_extraction(requests: list[dict]) -> tuple[str, str]:
         ``{"name": variable, "cases": None or list of argument lists}`` per exercise, the
         arguments as :func:`case_to_json` writes them (numbers, or ``{"array": nested list}``
         which the kernel turns back into a float ``numpy`` array).
+
+    Each answer is encoded (and each student function called) in a child process forked from
+    the kernel, which the kernel kills when it overruns (:data:`CALL_SECONDS` per call,
+    :data:`VALUE_SECONDS` per value): a function that ignores the alarm costs its own
+    exercise only. Where ``fork`` fails (e.g. the process limit is used up) the answer is
+    read in the kernel itself, under the alarm.
     """
     nonce = secrets.token_hex(16)
     source = "\n".join([inspect.getsource(encode.encode_value), inspect.getsource(encode._tree)])
     code = f'''
 def _photolib_extract_{nonce}():
-    import json as _json, signal as _signal, sys as _sys
+    import json as _json, signal as _signal, sys as _sys, os as _os, io as _io
+    import select as _select, time as _time
 {_indent(source)}
     def _alarm(signum, frame):
         raise TimeoutError("the function took longer than {CALL_SECONDS:g} s")
@@ -55,19 +65,18 @@ def _photolib_extract_{nonce}():
     except NameError:
         _ns = vars(_sys.modules["__main__"])
     _requests = _json.loads({json.dumps(json.dumps(requests))})
-    _out = {{"nonce": {nonce!r}, "student_id": encode_value(_ns.get("STUDENT_ID")), "answers": {{}}}}
-    for _r in _requests:
+
+    def _encode_one(_r, _emit):
         _value = _ns.get(_r["name"])
         if _r["cases"] is None:
             try:
-                _out["answers"][_r["name"]] = {{"value": encode_value(_value)}}
+                _emit({{"value": encode_value(_value)}})
             except Exception as _e:
-                _out["answers"][_r["name"]] = {{"error": type(_e).__name__}}
-            continue
+                _emit({{"error": type(_e).__name__}})
+            return
         if not callable(_value):
-            _out["answers"][_r["name"]] = {{"value": {{"t": "none"}}}}
-            continue
-        _outputs, _error = [], None
+            _emit({{"value": {{"t": "none"}}}})
+            return
         _signal.signal(_signal.SIGALRM, _alarm)
         for _args in _r["cases"]:
             try:
@@ -80,19 +89,114 @@ def _photolib_extract_{nonce}():
                     _res = _value(*_args)
                 finally:
                     _signal.setitimer(_signal.ITIMER_REAL, 0)
-                _outputs.append(encode_value(_res))
+                _emit({{"output": encode_value(_res)}})
             except NotImplementedError:
-                _outputs.append({{"t": "none"}})
+                _emit({{"output": {{"t": "none"}}}})
             except BaseException as _e:
-                _error = "your function raised " + type(_e).__name__ + ": " + str(_e)[:200]
-                break
-        _out["answers"][_r["name"]] = {{"outputs": _outputs, "error": _error}}
+                _emit({{"error": "your function raised " + type(_e).__name__ + ": "
+                                 + str(_e)[:200]}})
+                return
+
+    def _collect(_events, _r):
+        if _r["cases"] is None:
+            for _ev in _events:
+                return _ev
+            return {{"error": "no value"}}
+        _outputs, _error = [], None
+        for _ev in _events:
+            if "value" in _ev:
+                return _ev
+            if "output" in _ev:
+                _outputs.append(_ev["output"])
+            elif "error" in _ev:
+                _error = _ev["error"]
+        return {{"outputs": _outputs, "error": _error}}
+
+    def _in_process(_r):
+        _events = []
+        _encode_one(_r, _events.append)
+        return _collect(_events, _r)
+
+    def _isolated(_r, _seconds):
+        try:
+            _rfd, _wfd = _os.pipe()
+        except OSError:
+            return _in_process(_r)
+        try:
+            _pid = _os.fork()
+        except OSError:
+            _os.close(_rfd)
+            _os.close(_wfd)
+            return _in_process(_r)
+        if _pid == 0:
+            try:
+                _os.close(_rfd)
+                _sys.stdout = _sys.stderr = _io.StringIO()
+                def _emit(_ev):
+                    _view = memoryview((_json.dumps(_ev) + "\\n").encode())
+                    while _view:
+                        _view = _view[_os.write(_wfd, _view):]
+                try:
+                    _encode_one(_r, _emit)
+                except BaseException as _e:
+                    _emit({{"error": "reading the answer failed: " + type(_e).__name__}})
+            finally:
+                _os._exit(0)
+        _os.close(_wfd)
+        _buf, _events, _late, _size = b"", [], False, 0
+        _deadline = _time.monotonic() + _seconds
+        try:
+            while True:
+                _left = _deadline - _time.monotonic()
+                if _left <= 0:
+                    _late = True
+                    break
+                _ready, _, _ = _select.select([_rfd], [], [], _left)
+                if not _ready:
+                    continue
+                _chunk = _os.read(_rfd, 1 << 16)
+                if not _chunk:
+                    break
+                _size += len(_chunk)
+                if _size > {MAX_ANSWER_BYTES}:
+                    _late = True
+                    break
+                _buf += _chunk
+                while b"\\n" in _buf:
+                    _line, _buf = _buf.split(b"\\n", 1)
+                    _events.append(_json.loads(_line))
+                    _deadline = _time.monotonic() + _seconds  # the next call starts afresh
+        finally:
+            _os.close(_rfd)
+            if _late:
+                try:
+                    _os.kill(_pid, _signal.SIGKILL)
+                except OSError:
+                    pass
+            _os.waitpid(_pid, 0)
+        if _late:
+            _what = "your function" if _r["cases"] is not None else "reading the answer"
+            _events.append({{"error": _what + " took longer than " + str(_seconds)
+                                      + " s or gave too much data, and was stopped"}})
+        return _collect(_events, _r)
+
+    _out = {{"nonce": {nonce!r}, "student_id": encode_value(_ns.get("STUDENT_ID")), "answers": {{}}}}
+    for _r in _requests:
+        _seconds = {CALL_SECONDS + 1:g} if _r["cases"] is not None else {VALUE_SECONDS:g}
+        _out["answers"][_r["name"]] = _isolated(_r, _seconds)
     from IPython.display import publish_display_data
     publish_display_data({{{RESULT_MIME!r}: _out}})
 _photolib_extract_{nonce}()
 del _photolib_extract_{nonce}
 '''
     return code, nonce
+
+
+def extraction_seconds(requests: list[dict]) -> float:
+    """Longest time the extraction cell of ``requests`` can take (kernel execute timeout)."""
+    calls = sum(len(r["cases"] or ()) for r in requests)
+    values = sum(r["cases"] is None for r in requests)
+    return 15 + (CALL_SECONDS + 1) * calls + (VALUE_SECONDS + 1) * (values + len(requests))
 
 
 def case_to_json(args) -> list:
@@ -119,15 +223,8 @@ def _indent(source: str) -> str:
     return "\n".join("    " + line for line in source.splitlines())
 
 
-def parse_extraction(payloads: list, nonce: str, exercises) -> tuple[object, dict]:
-    """Decode the single record carrying ``nonce``.
-
-    Returns
-    -------
-    student_id : object
-        The kernel's ``STUDENT_ID`` (decoded), or :data:`NOT_ANSWERED`.
-    answers : dict
-        Exercise id -> decoded answer, :class:`FunctionOutputs` or :data:`NOT_ANSWERED`.
+def answer_record(payloads: list, nonce: str) -> dict:
+    """The single record carrying ``nonce``, undecoded.
 
     Raises
     ------
@@ -141,19 +238,67 @@ def parse_extraction(payloads: list, nonce: str, exercises) -> tuple[object, dic
         raise ExtractionError(f"{len(payloads)} answer records came back instead of one: "
                               "the result channel was tampered with")
     record = mine[0]
-    answers = {}
-    raw = record.get("answers") if isinstance(record.get("answers"), dict) else {}
-    for ex in exercises:
-        item = raw.get(ex.answer)
-        try:
-            answers[ex.id] = _decode_item(ex, item)
-        except DecodeError as exc:
-            answers[ex.id] = Unsupported(f"unreadable answer ({exc})")
+    if not isinstance(record.get("answers"), dict):
+        record = dict(record, answers={})
+    return record
+
+
+def record_student_id(record: dict):
+    """``STUDENT_ID`` of a record: a string, or :data:`NOT_ANSWERED` (never decoded further)."""
+    item = record.get("student_id")
+    if isinstance(item, dict) and item.get("t") == "str" and isinstance(item.get("v"), str):
+        return item["v"][:200]
+    return NOT_ANSWERED
+
+
+def parse_extraction(payloads: list, nonce: str, exercises) -> tuple[object, dict]:
+    """Decode the single record carrying ``nonce``.
+
+    Returns
+    -------
+    student_id : object
+        The kernel's ``STUDENT_ID`` (a string), or :data:`NOT_ANSWERED`.
+    answers : dict
+        Exercise id -> decoded answer, :class:`FunctionOutputs` or :data:`NOT_ANSWERED`; an
+        answer that cannot be decoded becomes :class:`Unsupported` with the reason.
+
+    Raises
+    ------
+    ExtractionError
+        No record with the nonce, or more than one (the channel was tampered with).
+    """
+    record = answer_record(payloads, nonce)
+    answers = {ex.id: decode_item(ex, record["answers"].get(ex.answer)) for ex in exercises}
+    return record_student_id(record), answers
+
+
+def decode_item(ex, item):
+    """Decode one answer item; any failure becomes :class:`Unsupported` with the reason."""
     try:
-        student_id = decode_value(record.get("student_id"))
-    except DecodeError:
-        student_id = NOT_ANSWERED
-    return student_id, answers
+        return _decode_item(ex, item)
+    except RecursionError:
+        return Unsupported("answer nested too deeply")
+    except Exception as exc:  # noqa: BLE001 - one bad answer costs its own exercise only
+        reason = str(exc) if isinstance(exc, DecodeError) else f"{type(exc).__name__}: {exc}"
+        return Unsupported(f"unreadable answer ({reason[:200]})")
+
+
+def judge_item(ex, student_id: str, item, cases):
+    """Decode and judge one answer item as the grader does; never raises.
+
+    ``cases`` are the JSON argument lists of a function exercise (else None).
+    """
+    from photolib.grading.judge import Judgement, judge
+    from photolib.grading.notebook import parameters_for, reference_outputs
+    try:
+        params = parameters_for(ex, student_id)
+        answer = decode_item(ex, item)
+        outputs_of = reference_outputs([case_from_json(c) for c in cases]) if cases else None
+        return judge(ex, params, answer, outputs_of)
+    except Exception as exc:  # noqa: BLE001
+        return Judgement(ex.id, "wrong", 0.0, float(ex.points),
+                         f"the answer could not be judged ({type(exc).__name__}: "
+                         f"{str(exc)[:200]})", "unjudged")
 
 
 def _decode_item(ex, item):
@@ -161,7 +306,7 @@ def _decode_item(ex, item):
         return NOT_ANSWERED
     if ex.kind != "function":
         if "error" in item and "value" not in item:
-            raise DecodeError(f"encoding failed with {str(item['error'])[:60]}")
+            raise DecodeError(f"encoding failed with {str(item['error'])[:120]}")
         return decode_value(item.get("value"))
     if "value" in item:
         return decode_value(item["value"])

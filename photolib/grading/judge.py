@@ -100,8 +100,11 @@ def plain_symbols(expr):
                           if isinstance(s, sp.Symbol) and s.assumptions0})
 
 
-def _expression_verdict(answer, expected) -> str:
-    """Verdict kind of ``answer == expected`` from :mod:`photolib.symcheck` when present."""
+def _expression_verdict(answer, expected, domain=None) -> str:
+    """Verdict kind of ``answer == expected`` from :mod:`photolib.symcheck` when present.
+
+    ``domain`` maps symbols to sampling intervals; symbols not in it range over the reals.
+    """
     import sympy as sp
     try:
         from photolib.symcheck import equivalent
@@ -117,7 +120,7 @@ def _expression_verdict(answer, expected) -> str:
     kinds = []
     for a, e in pairs:
         if equivalent is not None:
-            kinds.append(equivalent(a, e).kind)
+            kinds.append(equivalent(a, e, symbols_domain=domain).kind)
         else:
             kinds.append("equal" if sp.simplify(a - e) == 0 else "not-equal")
     for kind in ("not-equal", "undecided", "equal-under-condition"):
@@ -133,11 +136,29 @@ def _parse_formula(exercise, text: str):
     return parse_expression(text, symbols=[sp.Symbol(s) for s in exercise.symbols] or None)
 
 
+def _as_number(answer):
+    """A real SymPy number or a 0-d array as a float; anything else unchanged."""
+    if isinstance(answer, np.ndarray) and answer.ndim == 0:
+        return float(answer)
+    try:
+        import sympy as sp
+    except ImportError:  # pragma: no cover - SymPy ships with the course
+        return answer
+    if (isinstance(answer, sp.Basic) and answer.is_number and answer.is_real
+            and not answer.free_symbols):
+        try:
+            return float(answer)
+        except (TypeError, ValueError, OverflowError):
+            return answer
+    return answer
+
+
 def compare(exercise, answer, expected, params) -> tuple[bool, str]:
     """Does ``answer`` equal ``expected`` for this exercise's kind? Returns ``(ok, reason)``."""
     rtol, atol = exercise.tolerances(params)
     kind = exercise.kind
     if kind == "number":
+        answer = _as_number(answer)
         if not isinstance(answer, float):
             return False, f"expected a number, got {_describe(answer)}"
         return _numbers_match(answer, expected, rtol, atol), ""
@@ -165,10 +186,15 @@ def compare(exercise, answer, expected, params) -> tuple[bool, str]:
             return False, f"expected a SymPy expression, got {_describe(answer)}"
         if isinstance(answer, float):
             answer = sp.Float(answer)
-        verdict = _expression_verdict(plain_symbols(answer), plain_symbols(expected))
+        positive = {sp.Symbol(name): (0.2, 3.0) for name in exercise.positive}
+        verdict = _expression_verdict(plain_symbols(answer), plain_symbols(expected), positive)
         if verdict == "undecided":
             return False, "equivalence could not be decided; the instructor will look at it"
-        return verdict in ("equal", "equal-under-condition"), ""
+        if verdict == "equal-under-condition":
+            names = ", ".join(s for s in exercise.symbols if s not in exercise.positive)
+            return False, ("equal only when the symbols are positive, but "
+                           + (names or "the symbols") + " may be negative here")
+        return verdict == "equal", ""
     if kind == "function":
         if not isinstance(answer, FunctionOutputs):
             return False, "expected a function"
@@ -191,6 +217,8 @@ def compare(exercise, answer, expected, params) -> tuple[bool, str]:
 
 def _describe(value) -> str:
     if isinstance(value, Unsupported):
+        if value.type_name.startswith("unreadable"):
+            return f"an {value.type_name}"
         return f"a {value.type_name}"
     if value is NOT_ANSWERED:
         return "nothing"
@@ -255,7 +283,8 @@ def judge(exercise, params, answer, outputs_of=None) -> Judgement:
 def _reason_tag(reason: str) -> str:
     if not reason:
         return "other"
-    for key, tag in (("rotation matrix", "not-orthonormal"), ("reflection", "reflection"),
+    for key, tag in (("only when the symbols are positive", "sign-domain"),
+                     ("rotation matrix", "not-orthonormal"), ("reflection", "reflection"),
                      ("shape", "shape"), ("expected", "type"), ("raised", "raised"),
                      ("decided", "undecided")):
         if key in reason:

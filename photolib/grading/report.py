@@ -1,9 +1,12 @@
 """Writing grades: the gradebook CSV, one Markdown feedback file per student, a summary.
 
-The gradebook has the columns ``submission, student_id, status, total, max_total``, one column
-per exercise (points) and ``detail`` (why a status is not ``ok``). Rows are appended and
-flushed as submissions finish; ``<gradebook>.details.jsonl`` keeps each row's verdicts so a
-rerun can skip graded submissions and still summarise every mistake.
+The gradebook has the columns ``submission, student_id, status, chapter, total, max_total``,
+one column per exercise (points) and ``detail`` (why a status is not ``ok``). Rows are
+appended and flushed as submissions finish; ``<gradebook>.details.jsonl`` keeps each row's
+verdicts so a rerun can skip graded submissions and still summarise every mistake. A
+regraded submission (``--force``) replaces its own row and keeps all others. Text cells are
+one line of bounded length, and a cell that a spreadsheet would read as a formula (starting
+with ``= + - @``) gets a leading apostrophe.
 """
 
 from __future__ import annotations
@@ -15,13 +18,28 @@ import re
 from collections import Counter
 from pathlib import Path
 
-__all__ = ["BASE_COLUMNS", "Gradebook", "feedback_markdown", "summary_markdown"]
+__all__ = ["BASE_COLUMNS", "Gradebook", "csv_cell", "feedback_markdown", "summary_markdown"]
 
-BASE_COLUMNS = ["submission", "student_id", "status", "total", "max_total"]
+BASE_COLUMNS = ["submission", "student_id", "status", "chapter", "total", "max_total"]
 
 
 def _fmt(x: float) -> str:
     return f"{x:g}"
+
+
+def _one_line(text, limit: int = 1000) -> str:
+    text = re.sub(r"[\x00-\x1f\x7f\u2028\u2029\x85]+", " ", str(text))
+    return text if len(text) <= limit else text[:limit - 1] + "…"
+
+
+def csv_cell(text, limit: int = 1000) -> str:
+    """A text cell that is one line and never a spreadsheet formula.
+
+    >>> csv_cell("=HYPERLINK(1)"), csv_cell("a\\nb"), csv_cell("-1+1")
+    ("'=HYPERLINK(1)", 'a b', "'-1+1")
+    """
+    text = _one_line(text, limit)
+    return "'" + text if text[:1] in ("=", "+", "-", "@") else text
 
 
 class Gradebook:
@@ -41,22 +59,27 @@ class Gradebook:
         self.details_path = self.path.with_name(self.path.name + ".details.jsonl")
         self.columns = BASE_COLUMNS + list(exercise_ids) + ["detail"]
         self.done: dict[str, dict] = {}
-        if force or not self.path.exists():
-            self.path.parent.mkdir(parents=True, exist_ok=True)
-            with self.path.open("w", newline="", encoding="utf-8") as f:
-                csv.writer(f).writerow(self.columns)
-            self.details_path.write_text("", encoding="utf-8")
-            return
-        with self.path.open(newline="", encoding="utf-8") as f:
-            header = next(csv.reader(f), [])
-        if header != self.columns:
-            raise ValueError(f"{self.path} has columns {header}, this batch needs "
-                             f"{self.columns}; use --force or another --out")
-        if self.details_path.exists():
-            for line in self.details_path.read_text(encoding="utf-8").splitlines():
-                if line.strip():
-                    record = json.loads(line)
-                    self.done[record["submission"]] = record
+        self._rows: dict[str, list] = {}
+        if self.path.exists():
+            with self.path.open(newline="", encoding="utf-8") as f:
+                reader = csv.reader(f)
+                header = next(reader, [])
+                rows = list(reader) if header == self.columns else []
+            if header != self.columns and not force:
+                raise ValueError(f"{self.path} has columns {header}, this batch needs "
+                                 f"{self.columns}; use --force (which starts it afresh) "
+                                 "or another --out")
+            if header == self.columns:
+                for row in rows:
+                    if row:
+                        self._rows[self.key(row[0].removeprefix("'"))] = row
+                if self.details_path.exists():
+                    for line in self.details_path.read_text(encoding="utf-8").splitlines():
+                        if line.strip():
+                            record = json.loads(line)
+                            self.done[record["submission"]] = record
+                return
+        self._rewrite()
 
     def key(self, submission) -> str:
         return str(Path(submission).resolve())
@@ -64,35 +87,58 @@ class Gradebook:
     def is_done(self, submission) -> bool:
         return self.key(submission) in self.done
 
+    def _rewrite(self) -> None:
+        """Write the CSV and the sidecar afresh from the rows and records kept."""
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = self.path.with_name(self.path.name + ".tmp")
+        with tmp.open("w", newline="", encoding="utf-8") as f:
+            writer = csv.writer(f)
+            writer.writerow(self.columns)
+            writer.writerows(self._rows.values())
+        tmp_details = self.details_path.with_name(self.details_path.name + ".tmp")
+        tmp_details.write_text("".join(json.dumps(r) + "\n" for r in self.done.values()),
+                               encoding="utf-8")
+        tmp.replace(self.path)
+        tmp_details.replace(self.details_path)
+
     def add(self, graded) -> None:
-        """Append one graded submission and flush."""
+        """Add one graded submission (replacing its earlier row, if any) and flush."""
         points = {j.exercise_id: _fmt(j.points) for j in graded.judgements}
-        row = [graded.submission, graded.student_id, graded.status, _fmt(graded.total),
-               _fmt(graded.max_total)]
+        row = [csv_cell(graded.submission), csv_cell(graded.student_id, 80),
+               csv_cell(graded.status, 40), csv_cell(graded.chapter or "", 80),
+               _fmt(graded.total), _fmt(graded.max_total)]
         row += [points.get(c, "") for c in self.columns[len(BASE_COLUMNS):-1]]
-        row.append(graded.detail)
-        with self.path.open("a", newline="", encoding="utf-8") as f:
-            csv.writer(f).writerow(row)
-        record = {"submission": self.key(graded.submission), "student_id": graded.student_id,
-                  "status": graded.status,
+        row.append(csv_cell(graded.detail))
+        key = self.key(graded.submission)
+        record = {"submission": key, "student_id": graded.student_id,
+                  "status": graded.status, "chapter": graded.chapter,
                   "verdicts": [{"id": j.exercise_id, "status": j.status, "mistake": j.mistake,
                                 "points": j.points} for j in graded.judgements]}
+        replace = key in self._rows or key in self.done
+        self._rows[key] = row
+        self.done[key] = record
+        if replace:
+            self._rewrite()
+            return
+        with self.path.open("a", newline="", encoding="utf-8") as f:
+            csv.writer(f).writerow(row)
         with self.details_path.open("a", encoding="utf-8") as f:
             f.write(json.dumps(record) + "\n")
-        self.done[record["submission"]] = record
 
 
 def feedback_markdown(graded) -> str:
     """Feedback for the student: status, points and message per exercise."""
-    lines = [f"# Feedback: {graded.student_id or 'unknown student'}", "",
-             f"- submission: `{Path(graded.submission).name}`",
-             f"- status: **{graded.status}**",
-             f"- total: **{_fmt(graded.total)} / {_fmt(graded.max_total)}** points"]
+    lines = [f"# Feedback: {_one_line(graded.student_id, 80) or 'unknown student'}", "",
+             f"- submission: `{_one_line(Path(graded.submission).name, 200)}`",
+             f"- status: **{graded.status}**"]
+    if graded.chapter:
+        lines.append(f"- chapter: {graded.chapter}")
+    lines.append(f"- total: **{_fmt(graded.total)} / {_fmt(graded.max_total)}** points")
     if graded.detail:
-        lines.append(f"- notes: {graded.detail}")
+        lines.append(f"- notes: {_one_line(graded.detail)}")
     lines += ["", "| exercise | points | feedback |", "|---|---|---|"]
     for j in graded.judgements:
-        message = j.message.replace("|", "\\|").replace("\n", " ")
+        message = _one_line(j.message, 500).replace("|", "\\|")
         lines.append(f"| `{j.exercise_id}` | {_fmt(j.points)} / {_fmt(j.max_points)} | "
                      f"{message} |")
     return "\n".join(lines) + "\n"

@@ -42,6 +42,7 @@ __all__ = [
     "SandboxSupport",
     "SandboxedKernel",
     "UidPool",
+    "remove_files_of",
     "sandbox_support",
 ]
 
@@ -65,6 +66,11 @@ class Limits:
         Output text kept per submission; the rest is counted and dropped.
     file_mb : int
         Largest file the kernel may write (``RLIMIT_FSIZE``), MiB.
+    judge_seconds : float
+        Wall-clock seconds for decoding and judging one answer in the grader
+        (:class:`photolib.grading.worker.JudgePool`); an answer over it scores zero.
+    judge_memory_mb : int
+        Memory a judge worker may grow by while judging, MiB.
     """
 
     timeout: float = 60.0
@@ -72,9 +78,12 @@ class Limits:
     nproc: int = 64
     output_bytes: int = 20_000
     file_mb: int = 64
+    judge_seconds: float = 30.0
+    judge_memory_mb: int = 2048
 
     def __post_init__(self):
-        for name in ("timeout", "memory_mb", "nproc", "output_bytes", "file_mb"):
+        for name in ("timeout", "memory_mb", "nproc", "output_bytes", "file_mb",
+                     "judge_seconds", "judge_memory_mb"):
             value = getattr(self, name)
             if not value > 0:
                 raise ValueError(f"Limits.{name} must be positive, got {value!r}")
@@ -252,6 +261,34 @@ def kill_user(uid: int, rounds: int = 100) -> None:
         time.sleep(0.01)
 
 
+#: shared writable places searched for files a sandbox user left behind
+SHARED_TMP = ("/tmp", "/var/tmp", "/dev/shm")
+
+
+def remove_files_of(uid: int, places=SHARED_TMP) -> list[str]:
+    """Remove the entries directly in ``places`` owned by ``uid`` (a sandbox user)."""
+    if uid == os.geteuid() or uid == 0:
+        raise ValueError(f"refusing to remove the files of uid {uid}")
+    removed = []
+    for place in places:
+        try:
+            entries = list(os.scandir(place))
+        except OSError:
+            continue
+        for entry in entries:
+            try:
+                if entry.stat(follow_symlinks=False).st_uid != uid:
+                    continue
+                if entry.is_dir(follow_symlinks=False):
+                    shutil.rmtree(entry.path, ignore_errors=True)
+                else:
+                    os.unlink(entry.path)
+                removed.append(entry.path)
+            except OSError:
+                pass
+    return removed
+
+
 class _Manager(KernelManager):
     """A KernelManager whose command line is the sandbox chain, not the kernel spec's."""
 
@@ -309,17 +346,20 @@ class SandboxedKernel:
                    JUPYTER_PLATFORM_DIRS="1", JUPYTER_RUNTIME_DIR=str(home / "runtime"),
                    OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", MKL_NUM_THREADS="1",
                    MALLOC_ARENA_MAX="2", PYDEVD_DISABLE_FILE_VALIDATION="1",
-                   PYTHONDONTWRITEBYTECODE="1", PHOTOLIB_GRADING_SANDBOX="1")
+                   PYTHONDONTWRITEBYTECODE="1", PHOTOLIB_GRADING_SANDBOX="1",
+                   TMPDIR=str(self.workdir.parent / "tmp"))
         # the kernel imports the same photolib as the grader, installed or not
         root = str(Path(__file__).resolve().parents[2])
         env["PYTHONPATH"] = os.pathsep.join(filter(None, [root, env.get("PYTHONPATH")]))
         return env
 
     def adopt(self, path: Path) -> None:
-        """Give ``path`` (recursively) to the kernel's user."""
+        """Give ``path`` (recursively) to the kernel's user; folders ``path`` itself 0700."""
+        path = Path(path)
+        if path.is_dir():
+            os.chmod(path, 0o700)
         if self.uid is None:
             return
-        path = Path(path)
         os.chown(path, self.uid, self.uid)
         if path.is_dir():
             for root, dirs, files in os.walk(path):
@@ -331,7 +371,7 @@ class SandboxedKernel:
         base = self.workdir.parent
         self.workdir.mkdir(parents=True, exist_ok=True)
         home = base / "home"
-        for d in (home, base / "ipc"):
+        for d in (home, base / "ipc", base / "tmp"):
             d.mkdir(exist_ok=True)
         km = _Manager(transport="ipc", ip=str(base / "ipc" / "k"),
                            connection_file=str(base / "ipc" / "kernel.json"))
@@ -339,7 +379,10 @@ class SandboxedKernel:
         km.write_connection_file()
         self.adopt(home)
         self.adopt(base / "ipc")
+        self.adopt(base / "tmp")
         self.adopt(self.workdir)
+        for d in (home, base / "ipc", base / "tmp", self.workdir):
+            os.chmod(d, 0o700)  # only the kernel's own user (and the grader) may look inside
         if self.uid is not None:
             os.chmod(base, 0o711)
         km.start_kernel(cwd=str(self.workdir), env=self._env(home))
@@ -368,6 +411,7 @@ class SandboxedKernel:
             self.km = None
         if self.uid is not None:
             kill_user(self.uid)
+            remove_files_of(self.uid)
             _POOL.release(self.uid)
             self.uid = None
 

@@ -105,6 +105,10 @@ class Exercise:
         check and the grader call it with different generators; the grader's inputs stay hidden.
     symbols : tuple of str
         Symbol names allowed in formula strings (``kind="expression"``).
+    positive : tuple of str
+        ``expression`` only: symbols that are positive in the exercise (lengths, f-numbers);
+        they are compared over positive values, every other symbol over all real values
+        (angles are signed), so ``Abs(sin(omega))`` does not pass for ``sin(omega)``.
     choices : dict, optional
         For multiple choice: option key -> option text.
     """
@@ -123,6 +127,7 @@ class Exercise:
     mistakes: tuple = ()
     cases: Callable[[Any, Params], list] | None = None
     symbols: tuple = ()
+    positive: tuple = ()
     choices: dict = field(default_factory=dict)
 
     def __post_init__(self):

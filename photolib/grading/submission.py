@@ -23,6 +23,7 @@ import nbformat
 __all__ = [
     "MAX_BYTES",
     "SubmissionError",
+    "chapter_claims",
     "chapter_of",
     "code_cells",
     "read_submission",
@@ -31,7 +32,9 @@ __all__ = [
 ]
 
 MAX_BYTES = 20 * 1024 * 1024
-_ID_OK = re.compile(r"^[A-Za-z0-9_.@+-]{1,64}$")
+# a letter, digit or underscore first: ids never start like a spreadsheet formula (= + - @)
+# or a command-line option
+_ID_OK = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.@+-]{0,63}")
 
 
 class SubmissionError(ValueError):
@@ -111,17 +114,30 @@ def static_student_id(nb) -> str | None:
 
 
 def valid_student_id(value) -> str | None:
-    """``value`` if it is a usable student id (letters, digits, ``_.@+-``, ≤ 64), else None."""
-    return value if isinstance(value, str) and _ID_OK.match(value) else None
+    """``value`` if it is a usable student id, else None.
+
+    Letters, digits and ``_.@+-``, at most 64, starting with a letter, digit or ``_``.
+
+    >>> valid_student_id("s1234567"), valid_student_id("s1\\n"), valid_student_id("+B2")
+    ('s1234567', None, None)
+    """
+    return value if isinstance(value, str) and _ID_OK.fullmatch(value) else None
+
+
+def chapter_claims(nb, path: Path, known) -> tuple[str | None, str | None]:
+    """``(chapter in metadata photolib.chapter, chapter in the file name)``; None if absent."""
+    meta = nb.metadata.get("photolib", {}) if isinstance(nb.metadata, dict) else {}
+    name = meta.get("chapter") if isinstance(meta, dict) else None
+    by_meta = name if isinstance(name, str) and name in known else None
+    by_name = next((c for c in known if c in Path(path).name), None)
+    return by_meta, by_name
 
 
 def chapter_of(nb, path: Path, known) -> str | None:
-    """Chapter of a submission: notebook metadata ``photolib.chapter``, else the file name."""
-    meta = nb.metadata.get("photolib", {}) if isinstance(nb.metadata, dict) else {}
-    name = meta.get("chapter") if isinstance(meta, dict) else None
-    if name in known:
-        return name
-    for chapter in known:
-        if chapter in Path(path).name:
-            return chapter
-    return None
+    """Chapter of a submission: notebook metadata ``photolib.chapter``, else the file name.
+
+    :func:`~photolib.grading.batch.grade_submission` also rejects a notebook whose two
+    claims disagree (status ``wrong-chapter``).
+    """
+    by_meta, by_name = chapter_claims(nb, path, known)
+    return by_meta or by_name

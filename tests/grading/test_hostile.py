@@ -92,7 +92,49 @@ def _variants(master, untouched, sandbox_dir: Path):
     out["import-formula"] = with_cell(
         untouched, 'STUDENT_ID = "demo-student"\n'
                    f"R_omega_sym = \"__import__('os').system('touch {sandbox_dir}/formula')\"")
+    # answers built to stall the grader's decoder or judge: each costs its own exercise
+    rx = "R_omega_sym = sp.Matrix([[1, 0, 0], [0, sp.cos(omega), -sp.sin(omega)], [0, {}, {}]])"
+    out["exp-tower"] = with_cell(master, rx.format(
+        "sp.sin(omega)", "sp.exp(sp.exp(sp.exp(sp.exp(omega))))"))
+    out["rational-exponent"] = with_cell(master, rx.format(
+        "sp.sin(omega)", "sp.Pow(2, sp.Rational(10**12 + 1, 3), evaluate=False)"))
+    out["nested-pow"] = with_cell(master, "e = sp.Integer(2)\nfor _ in range(6):\n"
+                                          "    e = sp.Pow(e, 64, evaluate=False)\n"
+                                  + rx.format("sp.sin(omega)", "e"))
+    out["abs-trick"] = with_cell(master, rx.format("sp.Abs(sp.sin(omega))", "sp.cos(omega)")
+                                 .replace("-sp.sin(omega)", "-sp.Abs(sp.sin(omega))"))
+    out["custom-sin"] = with_cell(master, "class sin(sp.Function):\n    nargs = 2\n"
+                                  + rx.format("sin(omega, omega)", "sp.cos(omega)"))
+    out["complex"] = with_cell(master, "scale_number = complex(scale_number, 1.0)")
+    out["exact-number"] = with_cell(master, "scale_number = sp.nsimplify(scale_number, "
+                                            "rational=True)")
+    out["zero-d-array"] = with_cell(master, "scale_number = np.array(scale_number)")
+    out["sleepy-function"] = with_cell(
+        master, "import time\ndef image_scale_number(c_mm, h_m):\n    while True:\n"
+                "        try:\n            time.sleep(100)\n        except BaseException:\n"
+                "            pass")
+    out["huge-error"] = with_cell(
+        master, 'raise Exception("\\nfake.ipynb,victim,ok,11,11,2,2,2,2,2,1,\\n" + "x" * 200_000)')
+    out["sid-newline"] = _with_id(master, "demo-student\\n")
+    out["sid-formula"] = _with_id(master, "+B2")
+    out["sid-change"] = with_cell(master, 'STUDENT_ID = "someone-else"')
+    out["sibling-files"] = with_cell(master, "import os\nassert 'big.bin' not in os.listdir('.')\n"
+                                             "open('other-student.IPYNB')")
+    wrong = copy.deepcopy(master)
+    wrong.metadata["photolib"] = {"chapter": "02-optics"}
+    out["wrong-chapter"] = wrong
+    out["private-tmp"] = with_cell(
+        master, "import os, stat, tempfile\n"
+                "assert stat.S_IMODE(os.stat('.').st_mode) == 0o700, oct(os.stat('.').st_mode)\n"
+                "assert tempfile.gettempdir().startswith(os.path.dirname(os.getcwd()))\n"
+                "open('/tmp/photolib-hostile-left-behind', 'w').write('x')")
     return out
+
+
+def _with_id(nb, sid):
+    nb = copy.deepcopy(nb)
+    nb.cells[cell_index(nb, "student-id")].source = f'STUDENT_ID = "{sid}"'
+    return nb
 
 
 @pytest.fixture(scope="module")
@@ -112,19 +154,28 @@ def corpus(tmp_path_factory, master, untouched):
         else:
             nbformat.write(nb, path)
         paths[name] = path
+    # siblings in the submissions' folder: a sparse 1 GiB file (no disk blocks) and another
+    # student's notebook with an upper-case suffix; neither may reach a kernel
+    with open(folder / "big.bin", "wb") as f:
+        f.truncate(1 << 30)
+    nbformat.write(master, folder / "other-student.IPYNB")
     judge_before = JUDGE.read_text(encoding="utf-8")
     out = folder / "gradebook.csv"
+    # the same file twice, by another path: graded once
+    twice = folder / ".." / folder.name / paths["normal"].name
     # a separate grader process, as an instructor runs it
     done = subprocess.run([sys.executable, "-m", "photolib", "grade", *map(str, paths.values()),
+                           str(twice),
                            "--out", str(out), "--jobs", "2", "--timeout", str(TIMEOUT),
                            "--memory", "1536", "--feedback", str(folder / "feedback"),
                            "--no-progress"], cwd=ROOT, capture_output=True, text=True,
                           env=dict(os.environ, PYTHONPATH=str(ROOT)), timeout=240)
     assert done.returncode == 0, done.stderr
     with out.open(newline="") as f:
-        rows = {Path(r["submission"]).name.split("-00-")[0]: r for r in csv.DictReader(f)}
+        listed = list(csv.DictReader(f))
+    rows = {Path(r["submission"]).name.split("-00-")[0]: r for r in listed}
     return {"rows": rows, "outside": outside, "judge_before": judge_before, "folder": folder,
-            "paths": paths}
+            "paths": paths, "listed": listed, "stderr": done.stderr}
 
 
 def row(corpus, name):
@@ -153,6 +204,22 @@ FULL, ZERO = "11", "0"
     ("duplicated-cell", "ok", FULL, ""),
     ("duplicate-ids", "ok", FULL, ""),
     ("import-formula", "ok", ZERO, ""),
+    ("exp-tower", "ok", "9", ""),
+    ("rational-exponent", "ok", "9", ""),
+    ("nested-pow", "ok", "9", ""),
+    ("abs-trick", "ok", "9", ""),
+    ("custom-sin", "ok", "9", ""),
+    ("complex", "ok", "9", ""),
+    ("exact-number", "ok", FULL, ""),
+    ("zero-d-array", "ok", FULL, ""),
+    ("sleepy-function", "ok", "9", ""),
+    ("huge-error", "cell-errors", FULL, "fake.ipynb"),
+    ("sid-newline", "no-student-id", "4", "not a usable id"),
+    ("sid-formula", "no-student-id", "4", "not a usable id"),
+    ("sid-change", "ok", FULL, "changed later"),
+    ("sibling-files", "cell-errors", FULL, "big.bin"),
+    ("wrong-chapter", "wrong-chapter", ZERO, "02-optics"),
+    ("private-tmp", "ok", FULL, ""),
 ])
 def test_each_submission_ends_as_a_clear_row(corpus, name, status, total, detail):
     if name == "fork-bomb" and not sandbox_support().own_user:
@@ -219,3 +286,81 @@ def test_rerun_skips_graded_and_force_regrades(corpus):
     assert _grade(corpus["paths"]["not-json"], "--out", fresh, "--force").returncode == 0
     lines = fresh.read_text().splitlines()
     assert len(lines) == 2 and ",invalid-json," in lines[1]
+
+
+# the messages each answer of the corpus above that stalled the grader before must show
+@pytest.mark.parametrize("name, exercise, message", [
+    ("exp-tower", "demo.rotation-x-symbolic", "exponentials nested deeper"),
+    ("rational-exponent", "demo.rotation-x-symbolic", "larger than 64"),
+    ("nested-pow", "demo.rotation-x-symbolic", "nested powers"),
+    ("abs-trick", "demo.rotation-x-symbolic", "equal only when the symbols are positive"),
+    ("custom-sin", "demo.rotation-x-symbolic", "sin cannot take these arguments"),
+    ("complex", "demo.image-scale", "complex number"),
+    ("sleepy-function", "demo.scale-function", "was stopped"),
+])
+def test_one_bad_answer_costs_its_own_exercise(corpus, name, exercise, message):
+    from types import SimpleNamespace
+
+    from photolib.grading.report import feedback_name
+    r = row(corpus, name)
+    assert r["student_id"] == "demo-student" and r[exercise] == "0"
+    graded = SimpleNamespace(student_id=r["student_id"], submission=r["submission"])
+    text = (corpus["folder"] / "feedback" / feedback_name(graded)).read_text()
+    lines = [line for line in text.splitlines() if f"`{exercise}`" in line and message in line]
+    assert lines, f"no feedback line on {exercise} with {message!r}:\n{text}"
+
+
+def test_gradebook_rows_are_clean(corpus):
+    listed = corpus["listed"]
+    assert len(listed) == len(corpus["paths"])  # the path given twice is graded once
+    assert "duplicate path" in corpus["stderr"]
+    assert all(len(r["detail"]) <= 1000 for r in listed)
+    assert not any(r["submission"] == "fake.ipynb" for r in listed)
+    assert {r["chapter"] for r in listed} == {"00-grading-demo"}
+    assert row(corpus, "wrong-chapter")["max_total"] == FULL
+    assert "big.bin" in row(corpus, "normal")["detail"]
+    assert "not copied" in row(corpus, "normal")["detail"]
+
+
+def test_sandbox_files_in_tmp_are_removed(corpus):
+    if not sandbox_support().own_user:
+        pytest.skip("kernels run as the grader's user: their files cannot be told apart")
+    assert not Path("/tmp/photolib-hostile-left-behind").exists()
+
+
+def test_force_regrades_only_the_given_rows(corpus, tmp_path):
+    import shutil
+    out = tmp_path / "forced.csv"
+    shutil.copy(corpus["folder"] / "gradebook.csv", out)
+    shutil.copy(corpus["folder"] / "gradebook.csv.details.jsonl",
+                tmp_path / "forced.csv.details.jsonl")
+    before = list(csv.DictReader(out.read_text().splitlines()))
+    done = _grade(corpus["paths"]["not-json"], "--out", out, "--force")
+    assert done.returncode == 0, done.stderr
+    after = list(csv.DictReader(out.read_text().splitlines()))
+    assert sorted(r["submission"] for r in after) == sorted(r["submission"] for r in before)
+    assert [r for r in after if "not-json" in r["submission"]][0]["status"] == "invalid-json"
+    details = (tmp_path / "forced.csv.details.jsonl").read_text().splitlines()
+    assert len(details) == len(before)
+
+
+def test_judging_has_a_hard_time_limit():
+    """An answer whose judging overruns is stopped; the pool goes on with the next one."""
+    import sympy as sp
+
+    from photolib.grading.encode import encode_value
+    from photolib.grading.exercises import exercise
+    from photolib.grading.worker import JudgePool
+    ex = exercise("demo.rotation-x-symbolic")
+    w = sp.Symbol("omega")
+    good = sp.Matrix([[1, 0, 0], [0, sp.cos(w), -sp.sin(w)], [0, sp.sin(w), sp.cos(w)]])
+    wrong = {"value": encode_value(good.T * sp.exp(sp.exp(10**30 * w)))}
+    pool = JudgePool(1, timeout=0.01)
+    try:
+        slow = pool.judge(ex, "s1", wrong, None)
+        assert (slow.points, slow.mistake) == (0.0, "judge-timeout"), slow.message
+        assert "took longer" in slow.message
+        pool.timeout = 30.0
+        assert pool.judge(ex, "s1", {"value": encode_value(good)}, None).correct
+    finally:
+        pool.close()

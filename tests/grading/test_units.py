@@ -270,3 +270,74 @@ def test_expression_references_with_assumptions_match_plain_answers():
                                                   [plain]])))
     assert judge(ex, Params({}), answer).correct
     assert not judge(ex, Params({}), sp.Matrix([[sp.cos(plain)], [plain]])).correct
+
+
+def _pow_tower(n):
+    e = sp.Integer(2)
+    for _ in range(n):
+        e = sp.Pow(e, 64, evaluate=False)
+    return e
+
+
+@pytest.mark.parametrize("value", [
+    sp.Pow(2, sp.Rational(10**12 + 1, 3), evaluate=False),
+    sp.Pow(sp.Symbol("x"), sp.Float(1e9), evaluate=False),
+    _pow_tower(5),
+    sp.exp(sp.exp(sp.exp(sp.exp(sp.Symbol("omega"))))),
+])
+def test_decoder_bounds_expensive_expressions(value):
+    with pytest.raises(DecodeError):
+        decode_value(encode_value(value))
+
+
+def test_decoder_errors_of_any_kind_are_decode_errors():
+    class sin(sp.Function):  # noqa: N801 - a student's own function named like SymPy's
+        nargs = 2
+    with pytest.raises(DecodeError, match="sin cannot take"):
+        decode_value(encode_value(sin(sp.Symbol("x"), 1)))
+
+
+def test_honest_powers_and_exponentials_decode():
+    x, r = sp.symbols("x r")
+    for value in (sp.exp(sp.exp(x)), (sp.sqrt(x**2 + r**2)) ** 7, (x + 1) ** 64,
+                  sp.Pow(x, sp.Rational(3, 2))):
+        assert decode_value(encode_value(value)) == value
+
+
+def test_numbers_as_sympy_numbers_and_zero_d_arrays():
+    ex = exercise("demo.image-scale")
+    p = parameters_for(ex, "s0001")
+    right = p.h_m / p.c_mm * 1000
+    assert _judge("demo.image-scale", lambda p: sp.nsimplify(right, rational=True)).correct
+    assert _judge("demo.image-scale", lambda p: np.array(right)).correct
+    assert _judge("demo.image-scale", lambda p: complex(right, 0)).correct
+    bad = _judge("demo.image-scale", lambda p: complex(right, 1))
+    assert not bad.correct and "complex" in bad.message
+    arr = _judge("demo.rotation-2d", lambda p: _rot2(p) + 1j)
+    assert not arr.correct and "complex" in arr.message
+
+
+@pytest.mark.parametrize("entry", [
+    lambda w: sp.Abs(sp.sin(w)), lambda w: sp.sin(sp.Abs(w)),
+    lambda w: sp.sqrt(w**2) / w * sp.sin(w)])
+def test_symbolic_answers_are_judged_over_signed_angles(entry):
+    w = sp.Symbol("omega")
+    s = entry(w)
+    answer = sp.Matrix([[1, 0, 0], [0, sp.cos(w), -s], [0, s, sp.cos(w)]])
+    verdict = _judge("demo.rotation-x-symbolic", answer)
+    assert verdict.points == 0 and verdict.mistake == "sign-domain", verdict.message
+
+
+def test_declared_positive_symbols_are_sampled_positive():
+    f = sp.Symbol("f")
+    kw = dict(points=1, title="", statement="", kind="expression", answer="e", symbols=("f",),
+              parameters=lambda rng: {}, reference=lambda p: f)
+    assert not judge(Exercise(id="t.real", **kw), Params(), sp.Abs(f)).correct
+    assert judge(Exercise(id="t.pos", positive=("f",), **kw), Params(), sp.Abs(f)).correct
+
+
+def test_student_ids_are_whole_and_never_formulas():
+    from photolib.grading.submission import valid_student_id
+    assert valid_student_id("s-normal") == "s-normal"
+    for bad in ("s-normal\n", "+B2", "-1+1", "=HYPERLINK(1)", "@x", "", "x" * 65):
+        assert valid_student_id(bad) is None
