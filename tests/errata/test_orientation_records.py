@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 import pytest
+from scipy.spatial.transform import Rotation
 import sympy as sp
 
 from photolib import errata
@@ -91,12 +92,8 @@ def test_simplified_eta_needs_R_identity_and_Y0_Z0_zero():
 # -- image vectors -------------------------------------------------------------------------------
 
 def _rot(omega, phi, kappa):
-    cw, sw, cp, sp_, ck, sk = (math.cos(omega), math.sin(omega), math.cos(phi), math.sin(phi),
-                               math.cos(kappa), math.sin(kappa))
-    Rw = np.array([[1, 0, 0], [0, cw, -sw], [0, sw, cw]])
-    Rp = np.array([[cp, 0, sp_], [0, 1, 0], [-sp_, 0, cp]])
-    Rk = np.array([[ck, -sk, 0], [sk, ck, 0], [0, 0, 1]])
-    return Rw @ Rp @ Rk
+    """R = R_ω·R_φ·R_κ by SciPy (intrinsic x-y-z), independent of photolib."""
+    return Rotation.from_euler("XYZ", [omega, phi, kappa]).as_matrix()
 
 
 def test_image_vector_signs_by_ray_casting():
