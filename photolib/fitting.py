@@ -138,18 +138,21 @@ def fit_ellipse(xy) -> EllipseFit:
     if collinearity_ratio(pts) < 1e-9:
         raise DegenerateGeometryError("the points are collinear (or coincide); no ellipse is "
                                       "determined")
-    distinct = len(np.unique(pts, axis=0))
-    if distinct < 5:
-        raise DegenerateGeometryError(f"fit_ellipse needs at least 5 distinct points, got "
-                                      f"{distinct} among the {len(pts)}: a conic through fewer "
-                                      "is not determined")
     m = pts.mean(axis=0)
     s = np.sqrt(2.0) / np.mean(np.linalg.norm(pts - m, axis=1))
     u, v = (s * (pts - m)).T
     D1 = np.column_stack([u * u, u * v, v * v])
     D2 = np.column_stack([u, v, np.ones_like(u)])
-    _check_conic_determined(np.column_stack([D1, D2]))
     S1, S2, S3 = D1.T @ D1, D1.T @ D2, D2.T @ D2
+    try:
+        _check_conic_determined(np.block([[S1, S2], [S2.T, S3]]))
+    except DegenerateGeometryError:
+        distinct = len(np.unique(pts, axis=0))      # the clearer message, only when it fails
+        if distinct < 5:
+            raise DegenerateGeometryError(f"fit_ellipse needs at least 5 distinct points, got "
+                                          f"{distinct} among the {len(pts)}: a conic through "
+                                          "fewer is not determined") from None
+        raise
     T = -np.linalg.solve(S3, S2.T)
     Mred = S1 + S2 @ T
     Mred = np.array([Mred[2] / 2.0, -Mred[1], Mred[0] / 2.0])   # C1⁻¹·M
@@ -180,26 +183,27 @@ def fit_ellipse(xy) -> EllipseFit:
     return EllipseFit(ell.centre, ell.axes, ell.angle, conic, res, sigma0)
 
 
-def _check_conic_determined(D: np.ndarray) -> None:
-    """Refuse point sets that do not fix one proper conic, from the design matrix ``D`` (N, 6)
-    of the normalised points (rows ``u², uv, v², u, v, 1``).
+def _check_conic_determined(scatter: np.ndarray) -> None:
+    """Refuse point sets that do not fix one proper conic, from the scatter matrix ``DᵀD`` of
+    the design matrix ``D`` (N, 6) of the normalised points (rows ``u², uv, v², u, v, 1``).
 
     Two (near) zero singular values: a family of conics passes through the points (e.g. four
     of them on a line), any "fit" is arbitrary. One: the points lie exactly on one conic; if it
     is degenerate (a pair of lines, det of its 3 × 3 matrix zero) there is no ellipse to fit.
     """
-    Rd = np.linalg.qr(D, mode="r") if len(D) > 6 else D   # same singular values and V as D
-    Rd = np.vstack([Rd, np.zeros((6 - len(Rd), 6))]) if len(Rd) < 6 else Rd
-    sv, Vt = np.linalg.svd(Rd)[1:]
-    if sv[4] <= 1e-10 * sv[0]:
+    # singular values of D from the scatter matrix DᵀD (6 × 6, formed by the fit anyway):
+    # squaring halves the digits, so the threshold is 1e-7 of the largest
+    w, V = np.linalg.eigh(scatter)
+    sv, Vt, tol = np.sqrt(np.clip(w[::-1], 0.0, None)), V[:, ::-1].T, 1e-7
+    if sv[4] <= tol * sv[0]:
         raise DegenerateGeometryError(
             "the points do not determine a conic: more than one passes through them (e.g. four "
             "of them on one line); no ellipse is determined")
-    if sv[5] <= 1e-10 * sv[0]:
+    if sv[5] <= tol * sv[0]:
         a, b, c, d, e, f = Vt[5]
         C = np.array([[a, b / 2, d / 2], [b / 2, c, e / 2], [d / 2, e / 2, f]])
         lam = np.sort(np.abs(np.linalg.eigvalsh(C)))
-        if lam[0] <= 1e-10 * lam[-1]:
+        if lam[0] <= tol * lam[-1]:
             raise DegenerateGeometryError(
                 "the points lie on a degenerate conic (a pair of straight lines): no ellipse "
                 "is determined")
