@@ -97,19 +97,7 @@ def as_array(value, name: str, *, positive: bool = False, nonnegative: bool = Fa
     NaN is always refused; ±inf too unless ``finite=False`` (e.g. an object at infinity).
     ``positive`` asks for > 0, ``nonnegative`` for ≥ 0; the message quotes the first bad value.
     """
-    if type(value) is np.ndarray and value.dtype == np.float64:
-        arr = value
-    else:
-        try:
-            arr = np.asarray(value)
-        except (TypeError, ValueError):
-            raise ValueError(f"{name} must be numeric, got {_brief(value)}") from None
-        if arr.dtype.kind == "c":
-            raise ValueError(f"{name} must be real, got complex {_brief(value)}")
-        try:
-            arr = arr.astype(float, copy=False)
-        except (TypeError, ValueError):
-            raise ValueError(f"{name} must be numeric, got {_brief(value)}") from None
+    arr = as_float_array(value, name)
     if np.any(np.isnan(arr)):
         raise ValueError(f"{name} must be finite, got NaN" if finite
                          else f"{name} must not be NaN, got NaN")
