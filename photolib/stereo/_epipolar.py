@@ -201,13 +201,8 @@ def normal_case_rotation(X01, R1, X02, R2) -> np.ndarray:
     """
     X01, X02 = as_vector3(X01, "X01"), as_vector3(X02, "X02")
     R1, R2 = as_rotation(R1, "R1"), as_rotation(R2, "R2")
-    b, _ = _base(X01, X02, "no normal case")
-    nb = np.linalg.norm(b)
-    if nb > 0:
-        ex = b / nb
-    else:  # |b|² underflows (a base below 1e-154): scale first
-        ex = b / np.max(np.abs(b))
-        ex /= np.linalg.norm(ex)
+    b, length = _base(X01, X02, "no normal case")
+    ex = b / length  # _base's length does not underflow for a base below 1e-154
     z = R1[:, 2] + R2[:, 2]
     ez = z - (z @ ex) * ex
     if np.linalg.norm(ez) <= 1e-9 * max(np.linalg.norm(z), 1e-300):
