@@ -23,7 +23,7 @@ from photolib.grading.judge import FunctionOutputs
 from photolib.grading.sandbox import RESULT_MIME
 
 __all__ = ["ExtractionError", "answer_record", "build_extraction", "case_from_json",
-           "case_to_json", "decode_item", "extraction_seconds", "judge_item", "parse_extraction",
+           "case_to_json", "decode_item", "extraction_seconds", "judge_item",
            "record_student_id"]
 
 CALL_SECONDS = 5.0
@@ -249,27 +249,6 @@ def record_student_id(record: dict):
     if isinstance(item, dict) and item.get("t") == "str" and isinstance(item.get("v"), str):
         return item["v"][:200]
     return NOT_ANSWERED
-
-
-def parse_extraction(payloads: list, nonce: str, exercises) -> tuple[object, dict]:
-    """Decode the single record carrying ``nonce``.
-
-    Returns
-    -------
-    student_id : object
-        The kernel's ``STUDENT_ID`` (a string), or :data:`NOT_ANSWERED`.
-    answers : dict
-        Exercise id -> decoded answer, :class:`FunctionOutputs` or :data:`NOT_ANSWERED`; an
-        answer that cannot be decoded becomes :class:`Unsupported` with the reason.
-
-    Raises
-    ------
-    ExtractionError
-        No record with the nonce, or more than one (the channel was tampered with).
-    """
-    record = answer_record(payloads, nonce)
-    answers = {ex.id: decode_item(ex, record["answers"].get(ex.answer)) for ex in exercises}
-    return record_student_id(record), answers
 
 
 def decode_item(ex, item):

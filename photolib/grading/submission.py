@@ -24,7 +24,6 @@ __all__ = [
     "MAX_BYTES",
     "SubmissionError",
     "chapter_claims",
-    "chapter_of",
     "code_cells",
     "read_submission",
     "read_submission_text",
@@ -131,13 +130,3 @@ def chapter_claims(nb, path: Path, known) -> tuple[str | None, str | None]:
     by_meta = name if isinstance(name, str) and name in known else None
     by_name = next((c for c in known if c in Path(path).name), None)
     return by_meta, by_name
-
-
-def chapter_of(nb, path: Path, known) -> str | None:
-    """Chapter of a submission: notebook metadata ``photolib.chapter``, else the file name.
-
-    :func:`~photolib.grading.batch.grade_submission` also rejects a notebook whose two
-    claims disagree (status ``wrong-chapter``).
-    """
-    by_meta, by_name = chapter_claims(nb, path, known)
-    return by_meta or by_name

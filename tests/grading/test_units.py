@@ -223,10 +223,12 @@ def test_extraction_passes_array_cases_as_arrays(monkeypatch):
     import IPython.display
 
     from photolib.grading.extract import (
+        answer_record,
         build_extraction,
         case_from_json,
         case_to_json,
-        parse_extraction,
+        decode_item,
+        record_student_id,
     )
     from photolib.grading.sandbox import RESULT_MIME
 
@@ -252,9 +254,10 @@ def test_extraction_passes_array_cases_as_arrays(monkeypatch):
                   reference=lambda p: lambda s, xy: s * np.linalg.norm(
                       np.asarray(xy, float).reshape(-1, np.shape(xy)[-1]), axis=1))
     payloads = [d["data"][RESULT_MIME] for d in published]
-    sid, answers = parse_extraction(payloads, nonce, [ex])
-    assert sid == "s1" and answers["t.norm"].error is None
-    verdict = judge(ex, Params({}), answers["t.norm"],
+    record = answer_record(payloads, nonce)
+    sid, answer = record_student_id(record), decode_item(ex, record["answers"].get(ex.answer))
+    assert sid == "s1" and answer.error is None
+    verdict = judge(ex, Params({}), answer,
                     reference_outputs([case_from_json(c) for c in sent]))
     assert verdict.correct, verdict.message
 
