@@ -22,6 +22,9 @@ from photolib.grading.sandbox import RESULT_MIME, sandbox_support
 from .conftest import MASTER, ROOT, cell_index, with_cell
 
 TIMEOUT = 12
+#: written to /tmp by the private-tmp notebook; unique per run, so that a file another run
+#: left behind (where kernels run as the grader's user, nothing removes it) cannot fail this one
+LEFT_BEHIND = Path(f"/tmp/photolib-hostile-left-behind-{os.getpid()}-{os.urandom(4).hex()}")
 JUDGE = ROOT / "photolib" / "grading" / "judge.py"
 
 MONKEYPATCH = """
@@ -127,7 +130,7 @@ def _variants(master, untouched, sandbox_dir: Path):
         master, "import os, stat, tempfile\n"
                 "assert stat.S_IMODE(os.stat('.').st_mode) == 0o700, oct(os.stat('.').st_mode)\n"
                 "assert tempfile.gettempdir().startswith(os.path.dirname(os.getcwd()))\n"
-                "open('/tmp/photolib-hostile-left-behind', 'w').write('x')")
+                f"open({str(LEFT_BEHIND)!r}, 'w').write('x')")
     return out
 
 
@@ -174,8 +177,9 @@ def corpus(tmp_path_factory, master, untouched):
     with out.open(newline="") as f:
         listed = list(csv.DictReader(f))
     rows = {Path(r["submission"]).name.split("-00-")[0]: r for r in listed}
-    return {"rows": rows, "outside": outside, "judge_before": judge_before, "folder": folder,
-            "paths": paths, "listed": listed, "stderr": done.stderr}
+    yield {"rows": rows, "outside": outside, "judge_before": judge_before, "folder": folder,
+           "paths": paths, "listed": listed, "stderr": done.stderr}
+    LEFT_BEHIND.unlink(missing_ok=True)  # where the sandbox could not remove it
 
 
 def row(corpus, name):
@@ -325,7 +329,7 @@ def test_gradebook_rows_are_clean(corpus):
 def test_sandbox_files_in_tmp_are_removed(corpus):
     if not sandbox_support().own_user:
         pytest.skip("kernels run as the grader's user: their files cannot be told apart")
-    assert not Path("/tmp/photolib-hostile-left-behind").exists()
+    assert not LEFT_BEHIND.exists()
 
 
 def test_force_regrades_only_the_given_rows(corpus, tmp_path):
