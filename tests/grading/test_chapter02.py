@@ -146,6 +146,16 @@ def test_dof_limit_accepts_a_typed_formula():
     assert _judge(ex, sid, f"{n}*f*f**2/(f**2 - u*k*({n}*f - f))").mistake == "swapped"
 
 
+def test_dof_limit_symbols_are_positive_quantities():
+    """f, k and u are declared positive: a form that is equal only for positive f passes,
+    one that is wrong for positive f does not."""
+    ex = BY_ID["opt.dof-limit"]
+    sid = _sid_with(ex, quantity="near")
+    n = parameters_for(ex, sid)["n"]
+    assert _judge(ex, sid, f"{n}*Abs(f)*f**2/(f**2 + u*k*({n}*f - f))").status == "correct"
+    assert _judge(ex, sid, f"{n}*f*f**2/(f**2 + u*k*({n}*f + f))").status != "correct"
+
+
 @pytest.mark.parametrize("sid", STUDENTS)
 def test_choice_reference_points_at_the_right_statement(sid):
     ex = BY_ID["opt.stop-down"]

@@ -249,6 +249,7 @@ def _limit_printed(expr, p):
 
 dof_limit = Exercise(
     id="opt.dof-limit", points=3, kind="expression", answer="limit", symbols=("f", "k", "u"),
+    positive=("f", "k", "u"),  # focal length, f-number and blur are positive quantities
     title="Depth-of-field limits derived / Herleitung der Schärfentiefe",
     statement="A thin lens of focal length f and f-number k is focused on an object at the "
               "distance a = {n}·f from the lens; u is the permissible blur diameter in the "
