@@ -35,6 +35,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from photolib._linalg import svd_right
 from photolib._validate import (
     as_float_array,
     as_point_pairs,
@@ -172,7 +173,7 @@ def dlt_estimate(X, xy) -> DLTEstimate:
     A[0::2, 8:12] = -xn[:, :1] * Xn
     A[1::2, 4:8] = Xn
     A[1::2, 8:12] = -xn[:, 1:] * Xn
-    _, s, Vt = np.linalg.svd(A)
+    s, Vt = svd_right(A)
     if s[10] <= 1e-10 * s[0]:
         raise ValueError("degenerate configuration of object points; the DLT is not determined")
     P = np.linalg.inv(Tx) @ Vt[-1].reshape(3, 4) @ TX

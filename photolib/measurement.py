@@ -19,6 +19,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from photolib._linalg import svd_right
 from photolib._validate import (
     as_float_array,
     as_max_iter,
@@ -201,7 +202,7 @@ def fit_circle(xy, *, refine: bool = True, tol: float = 1e-12, max_iter: int = 5
     scale = np.sqrt(2.0) / np.mean(np.linalg.norm(pts - centroid, axis=1))
     u = scale * (pts - centroid)
     M = np.column_stack([np.sum(u**2, axis=1), 2 * u, np.ones(len(u))])
-    A, D, E, F = np.linalg.svd(M)[2][-1]
+    A, D, E, F = svd_right(M)[1][-1]
     if abs(A) < 1e-12:
         raise ValueError("the points lie (nearly) on a straight line; the circle radius is infinite")
     centre = np.array([-D / A, -E / A])

@@ -32,7 +32,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from photolib._validate import as_float_array, as_int, as_scalar, as_vector3, check_finite
+from photolib._validate import (as_float_array, as_int, as_rotation, as_scalar, as_vector3,
+                                check_finite)
 from photolib.collinearity import PointBehindCameraError, project
 from photolib.distortion import Distortion
 from photolib.pixels import pixel_from_image
@@ -206,7 +207,13 @@ class FrameCamera:
 
     def __post_init__(self):
         object.__setattr__(self, "X0", as_vector3(self.X0, "X0"))
-        object.__setattr__(self, "R", np.asarray(self.R, dtype=float))
+        object.__setattr__(self, "R", as_rotation(self.R))
+        object.__setattr__(self, "c", as_scalar(self.c, "c", positive=True))
+        object.__setattr__(self, "x0", as_scalar(self.x0, "x0"))
+        object.__setattr__(self, "y0", as_scalar(self.y0, "y0"))
+        if self.distortion is not None and not isinstance(self.distortion, Distortion):
+            raise TypeError("distortion must be a photolib.Distortion or None, "
+                            f"got {type(self.distortion).__name__}")
         for name in ("width", "height"):
             v = getattr(self, name)
             try:

@@ -154,6 +154,20 @@ def test_fit_circle_through_the_origin():
     assert np.allclose(fit.centre, [5, 0], atol=1e-12) and fit.radius == pytest.approx(5.0)
 
 
+def test_fit_circle_many_points_in_bounded_memory():
+    """2e5 edge points (a full SVD would build a 2e5 × 2e5 U: 320 GB); the fit recovers the
+    circle the noisy points were drawn from within a few standard errors σ·sqrt(2/N)."""
+    rng = np.random.default_rng(7)
+    n, sigma = 200_000, 0.01
+    t = rng.uniform(0, 2 * np.pi, n)
+    rad = 12.5 + rng.normal(0, sigma, n)
+    fit = fit_circle(np.column_stack([40.0 + rad * np.cos(t), -7.0 + rad * np.sin(t)]))
+    se = sigma * np.sqrt(2.0 / n)
+    np.testing.assert_allclose(fit.centre, [40.0, -7.0], atol=6 * se)
+    assert abs(fit.radius - 12.5) < 6 * sigma / np.sqrt(n)
+    assert abs(fit.sigma0 - sigma) < 0.02 * sigma
+
+
 def test_fit_circle_bad_input():
     with pytest.raises(ValueError, match="at least 3 points, got 2"):
         fit_circle([[0, 0], [1, 1]])

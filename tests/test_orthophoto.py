@@ -461,3 +461,21 @@ def test_dtm_keeps_its_own_copy_of_the_heights():
 def test_frame_camera_width_must_be_a_whole_number_of_pixels(width):
     with pytest.raises(ValueError, match="width must be a positive number of pixels, got"):
         op.FrameCamera((0, 0, 1), np.eye(3), 50.0, width, 10, 0.01)
+
+
+@pytest.mark.parametrize("kwargs, error, match", [
+    (dict(R=np.diag([1.0, 1.0, -1.0])), ValueError, "R has det"),
+    (dict(R=np.ones((3, 3))), ValueError, "R is not orthonormal"),
+    (dict(R=np.eye(2)), ValueError, r"R has shape \(2, 2\)"),
+    (dict(c=0.0), ValueError, "c must be"),
+    (dict(c=np.nan), ValueError, "c"),
+    (dict(x0="a"), ValueError, "x0"),
+    (dict(distortion=(0.1, 0.0)), TypeError, "distortion must be a photolib.Distortion"),
+])
+def test_frame_camera_checks_its_orientation_when_built(kwargs, error, match):
+    """A bad R, c, principal point or distortion fails at construction, naming the value,
+    not later inside a rectification."""
+    args = dict(X0=(0, 0, 1), R=np.eye(3), c=50.0, width=10, height=10, pixel_size=0.01)
+    args.update(kwargs)
+    with pytest.raises(error, match=match):
+        op.FrameCamera(**args)

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from photolib._linalg import svd_right
 from photolib._validate import as_scalar
 from photolib.transforms._base import (
     DegenerateGeometryError,
@@ -373,7 +374,7 @@ class ProjectiveTransform(_MatrixTransform):
         A = np.zeros((2 * n, 9))
         A[0::2] = np.column_stack([u, one, zero, zero, zero, -U[:, :1] * u, -U[:, 0]])
         A[1::2] = np.column_stack([zero, zero, zero, u, one, -U[:, 1:] * u, -U[:, 1]])
-        _, sv, Vt = np.linalg.svd(A)
+        sv, Vt = svd_right(A)
         if sv[7] <= RANK_TOL * sv[0]:
             raise DegenerateGeometryError(
                 f"{cls.__name__}: degenerate point geometry (three of the points collinear?); "
