@@ -221,6 +221,18 @@ def airy_report(wavelength_nm: float = 550.0, k: float = 8.0, pixel_um: float = 
             "pixel_psf": pixel_psf, "html": html}
 
 
+def _finished(fig):
+    """``fig``, complete, marked as not stale so that it is rendered once, not twice.
+
+    In IPython, pyplot's post-execute hook redraws every *stale* figure on its Agg canvas
+    (``draw_idle``) and then the inline backend draws the figure again to make the PNG;
+    the first draw is thrown away (some 0.1 s per figure). Changing the figure afterwards
+    marks it stale again, so a figure that is extended still gets redrawn.
+    """
+    fig.stale = False
+    return fig
+
+
 # -- static figures -------------------------------------------------------------------------------
 
 def plot_refraction(n1: float = 1.0, n2: float = 1.5, angles_deg=(10, 30, 50, 70, 85)):
@@ -243,7 +255,7 @@ def plot_refraction(n1: float = 1.0, n2: float = 1.5, angles_deg=(10, 30, 50, 70
     ax.set(xlim=(-2.1, 2.1), ylim=(-2.2, 2.2), aspect="equal", xlabel="x", ylabel="z",
            title=f"refraction / Brechung: n1 = {n1:g} (top), n2 = {n2:g} (bottom)")
     ax.legend(fontsize=7, loc="upper right")
-    return fig
+    return _finished(fig)
 
 
 def plot_dispersion(glasses=("N-BK7", "F2", "N-SF11", "fused silica")):
@@ -261,7 +273,7 @@ def plot_dispersion(glasses=("N-BK7", "F2", "N-SF11", "fused silica")):
     ax.set(xlabel="wavelength λ [nm]", ylabel="refractive index n",
            title="dispersion / Dispersion (Sellmeier)")
     ax.legend(fontsize=7)
-    return fig
+    return _finished(fig)
 
 
 def plot_chromatic_shift(f: float = F_MM, glass: str = "N-BK7"):
@@ -274,7 +286,7 @@ def plot_chromatic_shift(f: float = F_MM, glass: str = "N-BK7"):
     ax.axhline(0, color="0.5", lw=0.8)
     ax.set(xlabel="wavelength λ [nm]", ylabel="f(λ) − f_d [mm]",
            title=f"chromatic focal shift / Farblängsfehler, f = {f:g} mm, {glass}")
-    return fig
+    return _finished(fig)
 
 
 def plot_airy_profile(wavelength_nm: float = 550.0, k: float = 8.0, half_um: float = 20.0):
@@ -290,7 +302,7 @@ def plot_airy_profile(wavelength_nm: float = 550.0, k: float = 8.0, half_um: flo
     ax.set(xlabel="r [µm]", ylabel="relative", ylim=(0, 1.05),
            title=f"Airy pattern / Beugungsscheibchen, λ = {wavelength_nm:g} nm, k = {k:g}")
     ax.legend(fontsize=7)
-    return fig
+    return _finished(fig)
 
 
 def plot_vignetting_map(c: float = 24.0, half=(18.0, 12.0)):
@@ -310,7 +322,7 @@ def plot_vignetting_map(c: float = 24.0, half=(18.0, 12.0)):
     fig.colorbar(im, ax=ax, label="E(τ)/E(0) = cos⁴τ")
     ax.set(xlabel="x' [mm]", ylabel="y' [mm]",
            title=f"natural vignetting / Lichtabfall, c = {c:g} mm")
-    return fig
+    return _finished(fig)
 
 
 def plot_pinhole_blur(c: float = 100.0, wavelength_nm: float = 550.0):
@@ -329,7 +341,7 @@ def plot_pinhole_blur(c: float = 100.0, wavelength_nm: float = 550.0):
     ax.set(xlabel="pinhole diameter d [mm]", ylabel="blur diameter [mm]", ylim=(0, 1.2),
            title=f"pinhole camera / Lochkamera, c = {c:g} mm")
     ax.legend(fontsize=7)
-    return fig
+    return _finished(fig)
 
 
 def plot_stereo_acuity(base_mm: float = 65.0, acuity_arcsec=(5.0, 10.0, 30.0)):
@@ -346,7 +358,7 @@ def plot_stereo_acuity(base_mm: float = 65.0, acuity_arcsec=(5.0, 10.0, 30.0)):
     # decades only: the minor ticks of a log–log plot over seven decades cost a third of its draw
     ax.minorticks_off()
     ax.legend(fontsize=7)
-    return fig
+    return _finished(fig)
 
 
 # -- widgets --------------------------------------------------------------------------------------
