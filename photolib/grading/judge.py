@@ -50,29 +50,56 @@ class FunctionOutputs:
     error: str | None = None
 
 
-def propagated_atol(reference, params: dict, half_units: dict, floor: float = 1e-12) -> float:
+def propagated_atol(reference, params: dict, half_units: dict, floor: float = 1e-12):
     """Absolute tolerance from rounding the inputs: ``Σ |∂f/∂p|·Δp`` by central differences.
 
     Parameters
     ----------
     reference : callable
-        ``reference(params)`` returning a number.
+        ``reference(params)`` returning a number or an array of numbers.
     params : dict
     half_units : dict
         Parameter name -> half of its last printed digit (``0.005`` for a value printed to 0.01).
+        A parameter that is a list or array (e.g. point coordinates) has every element
+        rounded alike: each element is perturbed on its own and contributes its own term.
     floor : float
         Smallest tolerance returned.
 
+    Returns
+    -------
+    float or ndarray
+        A float for a number-valued reference; for an array-valued one an array of the
+        reference's shape, one tolerance per entry (``judge`` compares entry by entry).
+
     >>> round(propagated_atol(lambda p: p["h"] / p["c"], {"h": 1000.0, "c": 0.1}, {"h": 0.5}), 6)
     5.0
+    >>> propagated_atol(lambda p: 2.0 * np.asarray(p["xy"]), {"xy": [1.0, 2.0]}, {"xy": 0.5})
+    array([1., 1.])
     """
-    total = 0.0
+    def evaluate(changed):
+        return np.asarray(reference(changed), dtype=float)
+
+    total = np.zeros_like(evaluate(params))
     for name, du in half_units.items():
-        up, down = dict(params), dict(params)
-        up[name] = params[name] + du
-        down[name] = params[name] - du
-        total += abs(float(reference(up)) - float(reference(down))) / 2.0
-    return max(total, floor)
+        value = params[name]
+        if np.ndim(value) == 0:
+            up, down = dict(params), dict(params)
+            up[name] = value + du
+            down[name] = value - du
+            total = total + np.abs(evaluate(up) - evaluate(down)) / 2.0
+            continue
+        base = np.asarray(value, dtype=float)
+        for index in np.ndindex(base.shape):
+            shifted = []
+            for sign in (1.0, -1.0):
+                element = base.copy()
+                element[index] += sign * du
+                changed = dict(params)
+                changed[name] = element.tolist() if isinstance(value, list) else element
+                shifted.append(evaluate(changed))
+            total = total + np.abs(shifted[0] - shifted[1]) / 2.0
+    total = np.maximum(total, floor)
+    return float(total) if total.ndim == 0 else total
 
 
 def _numbers_match(answer, expected, rtol, atol) -> bool:
@@ -153,6 +180,31 @@ def _as_number(answer):
     return answer
 
 
+def _numeric_matrix(answer, expected_ndim: int):
+    """A numeric ``sympy.Matrix`` as a float array; anything else unchanged.
+
+    Answers to array and rotation exercises may be built with SymPy (chapter 04 derives R
+    symbolically and substitutes the angles): the kernel encodes a Matrix as a matrix of
+    expression trees (:func:`photolib.grading.encode.encode_value`, which cannot know the
+    exercise's kind), so the conversion happens here, for ``check()`` and the batch grader
+    alike. A SymPy matrix is always 2-D; one row or one column answers a 1-D array. A matrix
+    with free symbols, or with complex entries, is returned as it is and judged a type error.
+    """
+    try:
+        import sympy as sp
+    except ImportError:  # pragma: no cover - SymPy ships with the course
+        return answer
+    if not isinstance(answer, sp.MatrixBase) or answer.free_symbols:
+        return answer
+    try:
+        values = np.asarray(answer.evalf(), dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        return answer
+    if expected_ndim == 1 and 1 in values.shape:
+        values = values.ravel()
+    return values
+
+
 def compare(exercise, answer, expected, params) -> tuple[bool, str]:
     """Does ``answer`` equal ``expected`` for this exercise's kind? Returns ``(ok, reason)``."""
     rtol, atol = exercise.tolerances(params)
@@ -163,6 +215,7 @@ def compare(exercise, answer, expected, params) -> tuple[bool, str]:
             return False, f"expected a number, got {_describe(answer)}"
         return _numbers_match(answer, expected, rtol, atol), ""
     if kind in ("array", "rotation"):
+        answer = _numeric_matrix(answer, np.ndim(expected))
         if not isinstance(answer, np.ndarray):
             return False, f"expected an array, got {_describe(answer)}"
         expected = np.asarray(expected, float)
@@ -216,6 +269,12 @@ def compare(exercise, answer, expected, params) -> tuple[bool, str]:
 
 
 def _describe(value) -> str:
+    if getattr(value, "is_Matrix", False) and not isinstance(value, np.ndarray):
+        free = value.free_symbols
+        if free:
+            names = ", ".join(sorted(str(s) for s in free))
+            return f"a SymPy Matrix with free symbols ({names}): substitute numbers for them"
+        return "a SymPy Matrix whose entries are not all real numbers"
     if isinstance(value, Unsupported):
         if value.type_name.startswith("unreadable"):
             return f"an {value.type_name}"

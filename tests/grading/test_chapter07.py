@@ -138,3 +138,59 @@ def test_bilinear_printed_hint_repeats_the_x_coefficient():
     X, Y = wrong(x, y)
     assert math.isclose(X, p["a0"] + p["a1"] * x + p["a2"] * y + p["a3"] * x * y)
     assert math.isclose(Y, p["b0"] + p["b1"] * x + p["b2"] * y + p["b1"] * x * y)
+
+
+# -- answers of a careful student are accepted, the mistakes keep their hints ----------------
+
+def _helmert_complex(src, dst):
+    z = [complex(*q) for q in src]
+    w = [complex(*q) for q in dst]
+    k = (w[1] - w[0]) / (z[1] - z[0])
+    t = w[0] - k * z[0]
+    return np.array([t.real, t.imag, k.real, k.imag])
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_helmert_from_opencv_or_rounded_is_accepted(sid):
+    import cv2
+    ex = _by_id("plane.helmert-two-points")
+    p = parameters_for(ex, sid)
+    M, _ = cv2.estimateAffinePartial2D(np.array(p["src"]), np.array(p["dst"]))
+    assert _judge(ex, sid, np.array([M[0, 2], M[1, 2], M[0, 0], M[1, 0]])).correct
+    exact = _helmert_complex(p["src"], p["dst"])
+    rounded = [round(float(v), n) for v, n in zip(exact, (3, 3, 7, 7))]   # to 1 mm and 1e-7
+    assert _judge(ex, sid, np.array(rounded)).correct
+    assert _judge(ex, sid, exact.astype(np.float32)).correct
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_helmert_mistakes_keep_their_hints(sid):
+    ex = _by_id("plane.helmert-two-points")
+    p = parameters_for(ex, sid)
+    exact = _helmert_complex(p["src"], p["dst"])
+    assert _judge(ex, sid, _helmert_complex(p["dst"], p["src"])).mistake == "swapped"
+    assert _judge(ex, sid, exact * [1, 1, 1, -1]).mistake == "sign-b1"
+    assert _judge(ex, sid, exact * [1e3, 1e3, 1, 1]).status == "wrong"      # a0, b0 in mm
+    # the tolerance of a1, b1 stays far below a scale error of 1e-4 (100 ppm)
+    assert _judge(ex, sid, exact * [1, 1, 1 + 1e-4, 1 + 1e-4]).status == "wrong"
+
+
+def _cross_by_1d_homography(p):
+    """s_D from the 1-D projective map t = (α s + β)/(γ s + 1) fitted through A, B, C."""
+    s = np.array([0.0, p["sB"], p["sC"]])
+    t = np.array([p["a"], p["b"], p["c"]])
+    alpha, beta, gamma = np.linalg.solve(np.column_stack([s, np.ones(3), -t * s]), t)
+    return (p["d"] - beta) / (alpha - gamma * p["d"])
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_cross_ratio_rounded_to_a_millimetre_is_accepted(sid):
+    ex = _by_id("plane.cross-ratio")
+    p = parameters_for(ex, sid)
+    s_D = _cross_by_1d_homography(p)
+    assert _judge(ex, sid, round(float(s_D), 3)).correct
+    assert _judge(ex, sid, float(np.float32(s_D))).correct
+    # the simple ratio (affine) keeps its hint; 10 cm off is wrong
+    affine = (p["d"] - p["a"]) / (p["b"] - p["a"]) * p["sB"]
+    assert _judge(ex, sid, affine).mistake == "affine-ratio"
+    assert _judge(ex, sid, float(s_D) + 0.1).status == "wrong"

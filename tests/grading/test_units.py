@@ -344,3 +344,76 @@ def test_student_ids_are_whole_and_never_formulas():
     assert valid_student_id("s-normal") == "s-normal"
     for bad in ("s-normal\n", "+B2", "-1+1", "=HYPERLINK(1)", "@x", "", "x" * 65):
         assert valid_student_id(bad) is None
+
+
+# -- numeric SymPy matrices answer array and rotation exercises --------------------------------
+
+def _sympy_rotation_opk(omega, phi, kappa):
+    w, f, k = sp.symbols("omega phi kappa")
+    R = (sp.Matrix([[1, 0, 0], [0, sp.cos(w), -sp.sin(w)], [0, sp.sin(w), sp.cos(w)]])
+         * sp.Matrix([[sp.cos(f), 0, sp.sin(f)], [0, 1, 0], [-sp.sin(f), 0, sp.cos(f)]])
+         * sp.Matrix([[sp.cos(k), -sp.sin(k), 0], [sp.sin(k), sp.cos(k), 0], [0, 0, 1]]))
+    values = {w: omega, f: phi, k: kappa}
+    return R.subs({s: v for s, v in values.items() if v is not None})
+
+
+def _opk_answer(sid, free_omega=False):
+    p = parameters_for(exercise("rot.opk-matrix"), sid)
+    gon = sp.pi / 200
+    return _sympy_rotation_opk(None if free_omega else sp.Float(p.omega_gon) * gon,
+                               sp.Float(p.phi_gon) * gon, sp.Float(p.kappa_gon) * gon).evalf()
+
+
+@pytest.mark.parametrize("free_omega, printed", [
+    (False, "✔ rot.opk-matrix: correct"),
+    (True, "✘ rot.opk-matrix: not correct: expected an array, got a SymPy Matrix with free "
+           "symbols (omega): substitute numbers for them"),
+])
+def test_sympy_matrix_is_judged_alike_by_check_and_the_grader(monkeypatch, capsys, free_omega,
+                                                              printed):
+    """check() in the notebook and the batch grader's extraction give the same verdict."""
+    import IPython.display
+
+    from photolib.grading import notebook
+    from photolib.grading.extract import answer_record, build_extraction, judge_item
+    from photolib.grading.sandbox import RESULT_MIME
+
+    sid = "s1000001"
+    ns = {"STUDENT_ID": sid, "R": _opk_answer(sid, free_omega)}
+    monkeypatch.setattr(notebook, "_namespace", lambda: ns)
+    notebook.check("rot.opk-matrix")
+    assert capsys.readouterr().out.strip() == printed
+
+    code, nonce = build_extraction([{"name": "R", "cases": None}])
+    published = []
+    monkeypatch.setattr(IPython.display, "publish_display_data",
+                        lambda data: published.append({"data": data}))
+    exec(code, {"get_ipython": lambda: type("Shell", (), {"user_ns": ns})()})  # noqa: S102
+    record = answer_record([d["data"][RESULT_MIME] for d in published], nonce)
+    verdict = judge_item(exercise("rot.opk-matrix"), sid, record["answers"]["R"], None)
+    assert f"{'✔' if verdict.correct else '✘'} rot.opk-matrix: {verdict.message}" == printed
+    assert verdict.mistake == (None if not free_omega else "type")
+
+
+def test_sympy_matrix_answers_to_array_exercises():
+    ex = Exercise(id="t.vector", points=1, title="t", kind="array", answer="v", statement="",
+                  parameters=lambda rng: {}, reference=lambda p: np.array([1.0, 2.0, 3.0]),
+                  rtol=0.0, atol=1e-9)
+    judged = lambda value: judge(ex, Params({}), decode_value(encode_value(value)))  # noqa: E731
+    assert judged(sp.Matrix([1, 2, 3])).correct                      # a column
+    assert judged(sp.Matrix([[1.0, 2.0, 3.0]])).correct              # a row
+    assert judged(sp.Matrix([sp.sqrt(1), sp.Rational(4, 2), 3])).correct
+    assert judged(sp.Matrix([1000, 2000, 3000])).mistake == "units-mm-m"
+    assert judged(sp.Matrix([[1, 2, 3], [1, 2, 3]])).mistake == "shape"
+    assert judged(sp.Matrix([1, 2, 3 * sp.I])).mistake == "type"
+    assert judged(sp.Matrix([1, 2, sp.Symbol("x")])).mistake == "type"
+
+
+def test_propagated_atol_of_arrays_and_list_parameters():
+    from photolib.grading.judge import propagated_atol
+
+    # f = (u0 + u1, 3·u1) with u rounded to ±0.5: Σ |∂f/∂u_i|·0.5 per entry
+    tol = propagated_atol(lambda p: np.array([p["u"][0] + p["u"][1], 3.0 * p["u"][1]]),
+                          {"u": [1.0, 2.0]}, {"u": 0.5})
+    np.testing.assert_allclose(tol, [1.0, 1.5])
+    assert isinstance(propagated_atol(lambda p: p["a"] ** 2, {"a": 3.0}, {"a": 0.01}), float)

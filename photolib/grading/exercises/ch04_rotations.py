@@ -57,6 +57,18 @@ def _opk_order(p):
     return pl.rotation_pok(*pl.gon2rad(np.array([p[n] for n in _GON])))
 
 
+def _opk_reversed_product(p):
+    """R_κ·R_φ·R_ω: the three elementary rotations multiplied in the reverse order."""
+    import photolib as pl
+    omega, phi, kappa = pl.gon2rad(np.array([p[n] for n in _GON]))
+    return (pl.rotation_opk(0.0, 0.0, kappa) @ pl.rotation_opk(0.0, phi, 0.0)
+            @ pl.rotation_opk(omega, 0.0, 0.0))
+
+
+_REVERSED_PRODUCT_MESSAGE = ("this is the κ-φ-ω product R_κ·R_φ·R_ω (the factors in reverse "
+                             "order); the course's order is R = R_ω·R_φ·R_κ (primary axis X)")
+
+
 opk_matrix = Exercise(
     id="rot.opk-matrix", points=3, kind="rotation", answer="R",
     title="Rotation matrix from an aerial attitude (Drehmatrix aus der Fluglage)",
@@ -71,6 +83,8 @@ opk_matrix = Exercise(
                           "the angles were converted as if they were degrees; they are in "
                           "gon (multiply by π/200)"),
         Mistake("order", _ORDER_MESSAGE, _opk_order),
+        Mistake("order", _REVERSED_PRODUCT_MESSAGE, _opk_reversed_product),
+        hints.reversed_sense(_opk_reference, "omega_gon"),
         hints.reversed_sense(_opk_reference, "phi_gon"),
         hints.reversed_sense(_opk_reference, "kappa_gon"),
         hints.reversed_sense(_opk_reference, "phi_gon", "kappa_gon"),
@@ -235,6 +249,10 @@ def _degrees_as_gon(p):
     return _UNITS["degrees"] if p["unit"] == "gon" else None
 
 
+def _gon_as_degrees(p):
+    return _UNITS["gon"] if p["unit"] == "degrees" else None
+
+
 ray_direction = Exercise(
     id="rot.ray-direction", points=3, kind="function", answer="ray_direction",
     title="Image ray in the object frame (Bildstrahl im Objektsystem)",
@@ -244,7 +262,9 @@ ray_direction = Exercise(
               "centre through the image point (x', y') = (x, y) in mm, for angles ω, φ, κ in "
               "{unit}. Use the image vector x* = (x', y', −c) and R = R_ω·R_φ·R_κ. It is tested "
               "on image points and attitudes you do not see.",
-    parameters=_ray_params, reference=_ray_function(), cases=_ray_cases, rtol=0.0, atol=1e-9,
+    # the cases are exact numbers and the result a unit vector: 1e-6 accepts float32 and
+    # OpenCV (float32 eps ≈ 6e-8) while every mistake below moves some entry by far more
+    parameters=_ray_params, reference=_ray_function(), cases=_ray_cases, rtol=0.0, atol=1e-6,
     mistakes=(
         Mistake("transposed", "Rᵀ turns object vectors into the camera frame; here R·x* is "
                               "needed", _ray_function(transpose=True)),
@@ -252,6 +272,8 @@ ray_direction = Exercise(
                 _ray_function(to_radians=lambda p: 1.0)),
         Mistake("degrees", "the angles are in gon, not degrees (multiply by π/200)",
                 _ray_function(to_radians=_degrees_as_gon)),
+        Mistake("gon", "the angles are in degrees, not gon (multiply by π/180)",
+                _ray_function(to_radians=_gon_as_degrees)),
         Mistake("sign-c", hints.MESSAGES["sign-c"], _ray_function(c_factor=-1.0)),
         Mistake("units-mm-m", "c and x', y' must have the same unit (mm)",
                 _ray_function(c_factor=1e-3)),

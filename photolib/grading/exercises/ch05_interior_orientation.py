@@ -17,6 +17,7 @@ import math
 import numpy as np
 
 from photolib.grading import hints
+from photolib.grading.judge import propagated_atol
 from photolib.grading.spec import Exercise, Mistake
 
 CHAPTER = "05-interior-orientation"
@@ -43,15 +44,27 @@ def _distortion(p, sign=1.0, balanced=True):
 _FORMATS = ((6000, 4000), (8256, 5504), (4096, 3000), (5472, 3648), (7952, 5304), (2448, 2048))
 
 
+def _half_diagonal(p):
+    """Half the format diagonal in mm: the distance of a corner from the principal point."""
+    return math.hypot(p["W"], p["H"]) * p["pixel_um"] / 1000.0 / 2.0
+
+
 def _field_params(rng):
+    # c relative to the format, as real lenses are: from a wide angle (c = half the half
+    # diagonal, τ ≈ 63°) to a short telephoto (c = twice the half diagonal, τ ≈ 27°)
     W, H = _FORMATS[int(rng.integers(len(_FORMATS)))]
-    return {"W": W, "H": H, "pixel_um": round(float(rng.uniform(2.0, 6.0)), 2),
-            "c_mm": round(float(rng.uniform(8.0, 50.0)), 3)}
+    p = {"W": W, "H": H, "pixel_um": round(float(rng.uniform(2.0, 6.0)), 2)}
+    p["c_mm"] = round(float(rng.uniform(0.5, 2.0)) * _half_diagonal(p), 3)
+    return p
 
 
 def _field_angle(p):
-    half_diagonal = math.hypot(p["W"], p["H"]) * p["pixel_um"] / 1000.0 / 2.0
-    return math.degrees(math.atan2(half_diagonal, p["c_mm"]))
+    return math.degrees(math.atan2(_half_diagonal(p), p["c_mm"]))
+
+
+def _field_tolerance(p):
+    """τ is as exact as the printed pixel size (0.01 µm) and c (0.001 mm) allow."""
+    return 0.0, propagated_atol(_field_angle, p, {"pixel_um": 0.005, "c_mm": 0.0005})
 
 
 field_angle = Exercise(
@@ -62,7 +75,7 @@ field_angle = Exercise(
               "principal point (Bildhauptpunkt) is at the centre of the format. Compute the "
               "field angle τ (Feldwinkel) of a ray to a corner of the image format, i.e. the "
               "half angle of view (halber Bildwinkel) over the diagonal, in degrees.",
-    parameters=_field_params, reference=_field_angle, rtol=0.0, atol=1e-6,
+    parameters=_field_params, reference=_field_angle, tolerance=_field_tolerance,
     mistakes=(
         hints.scaled_parameter(_field_angle, "pixel_um", 1000.0, "units-mm-m",
                                "off by 1000 in the pixel size: µm versus mm?"),
@@ -157,7 +170,10 @@ image_vector = Exercise(
               "(Verzeichnung) A1 = {A1:.3e} mm⁻², A2 = {A2:.3e} mm⁻⁴ (r0 = 0), B1 = {B1:.3e} mm⁻¹, "
               "B2 = {B2:.3e} mm⁻¹. A point is measured at x' = {x} mm, y' = {y} mm. Give its "
               "image vector x* = (x' − x'0 − Δx', y' − y'0 − Δy', −c) in mm as a NumPy array.",
-    parameters=_vector_params, reference=_vector, rtol=0.0, atol=1e-6,
+    # relative 1e-6 accepts float32 (eps ≈ 6e-8) and a result printed to 1e-6 mm; the
+    # rounding of the printed inputs (1 µm) is not added: it would hide the distortion-point
+    # mistakes, which move x* by 0.1 µm and more
+    parameters=_vector_params, reference=_vector, rtol=1e-6, atol=1e-6,
     mistakes=(
         Mistake("distortion-point", _DISTORTION_POINT,
                 lambda p: _vector(p, _distortion(p, sign=-1.0).distort(_reduced(p)))),

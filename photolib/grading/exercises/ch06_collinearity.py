@@ -174,6 +174,26 @@ def _evaluate_418(expr, p):
     return float(expr.subs({s: values[s.name] for s in expr.free_symbols}))
 
 
+def _dy_dphi_done_wrongly(p, transpose=False, phi_sense=1):
+    """∂y'/∂φ of the collinearity equations written with one mistake, by central differences.
+
+    ``transpose``: (kx, ky, N) = R·(X − X0) instead of Rᵀ·(X − X0); ``phi_sense = −1``: the
+    elementary rotation R_φ turned the other way. The student differentiates their own
+    formula with respect to the φ of the task, so the difference quotient is taken in φ.
+    """
+    import photolib as pl
+    X = np.array([p["X"], p["Y"], p["Z"]])
+    omega, kappa = math.radians(p["omega_deg"]), math.radians(p["kappa_deg"])
+
+    def y_image(phi):
+        R = pl.rotation_opk(omega, phi_sense * phi, kappa)
+        kx, ky, N = (R if transpose else R.T) @ (X - _centre(p))
+        return -p["c_mm"] * ky / N
+
+    phi, h = math.radians(p["phi_deg"]), 1e-5
+    return (y_image(phi + h) - y_image(phi - h)) / (2.0 * h)
+
+
 dy_dphi = Exercise(
     id="col.dy-dphi", points=3, kind="number", answer="dy_dphi",
     title="∂y'/∂φ for a close-range image (Luhmann 4.18)",
@@ -190,6 +210,12 @@ dy_dphi = Exercise(
         Mistake("sign-c", hints.MESSAGES["sign-c"], lambda p: -_dy_dphi(p)),
         Mistake("coordinate", "this is ∂x'/∂φ; the task asks for ∂y'/∂φ",
                 lambda p: float(_dphi_jacobian(p)[0, 4])),
+        Mistake("transposed", "R and Rᵀ are swapped: (kx, ky, N) = Rᵀ(X − X0), and R·x* "
+                              "turns an image vector into the object frame",
+                lambda p: _dy_dphi_done_wrongly(p, transpose=True)),
+        Mistake("sense", f"{hints.MESSAGES['sense']} (phi: R_φ = [[cos φ, 0, sin φ], "
+                         "[0, 1, 0], [−sin φ, 0, cos φ]])",
+                lambda p: _dy_dphi_done_wrongly(p, phi_sense=-1)),
     ))
 
 

@@ -24,6 +24,7 @@ import math
 import numpy as np
 
 from photolib.grading import hints
+from photolib.grading.judge import propagated_atol
 from photolib.grading.spec import Exercise, Mistake
 
 CHAPTER = "07-plane-transformations"
@@ -66,6 +67,15 @@ def _helmert_swapped(p):
     return np.array(list(_helmert_fit(p, swapped=True).params.values()))
 
 
+def _helmert_tolerance(p):
+    """Per parameter: what rounding the printed coordinates (1 mm) does to a0, b0, a1, b1.
+
+    An exact solution, a least-squares one (OpenCV's estimateAffinePartial2D) or one rounded
+    sensibly differ by far less; a mistake changes some parameter by far more.
+    """
+    return 0.0, propagated_atol(_helmert_reference, p, {"src": 0.0005, "dst": 0.0005})
+
+
 def _helmert_notes_sign(p):
     a0, b0, a1, b1 = _helmert_reference(p)
     return np.array([a0, b0, a1, -b1])
@@ -79,7 +89,7 @@ helmert_two_points = Exercise(
               "p.src and p.dst). Determine the 4-parameter similarity (Helmert) transformation "
               "local → map of the course, X = a0 + a1·x − b1·y, Y = b0 + b1·x + a1·y, and give "
               "the NumPy array [a0, b0, a1, b1].",
-    parameters=_helmert_params, reference=_helmert_reference, rtol=0.0, atol=1e-5,
+    parameters=_helmert_params, reference=_helmert_reference, tolerance=_helmert_tolerance,
     mistakes=(
         Mistake("swapped", _SWAPPED.format(src="(x, y)", dst="(X, Y)"), _helmert_swapped),
         Mistake("sign-b1", "the sign of b1 is reversed: that is the Polish notes' form "
@@ -208,6 +218,12 @@ def _cross_reference(p):
     return sB * sC / (sB - lam * (sC - sB))
 
 
+def _cross_tolerance(p):
+    """s_D is as exact as the printed positions (0.001 mm) and distances (0.001 m) allow."""
+    return 0.0, propagated_atol(_cross_reference, p, {k: 0.0005 for k in
+                                                      ("a", "b", "c", "d", "sB", "sC")})
+
+
 cross_ratio = Exercise(
     id="plane.cross-ratio", points=2, kind="number", answer="s_D",
     title="Distance from the cross ratio (Doppelverhältnis)",
@@ -216,7 +232,7 @@ cross_ratio = Exercise(
               "line). In the object, B is {sB} m and C is {sC} m from A, in the same direction "
               "as D. The cross ratio (Doppelverhältnis, Luhmann 2.21) is invariant under "
               "central projection: compute the distance s_D of D from A in m.",
-    parameters=_cross_params, reference=_cross_reference, rtol=1e-9, atol=1e-6,
+    parameters=_cross_params, reference=_cross_reference, tolerance=_cross_tolerance,
     mistakes=(
         Mistake("affine-ratio", "the simple ratio (Teilverhältnis) is kept by affine maps only; "
                                 "a central projection keeps the cross ratio of four points",
