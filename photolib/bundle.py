@@ -54,9 +54,10 @@ from photolib.distortion import Distortion
 from photolib.rotations import rotation_opk
 from photolib.transforms._base import ConvergenceError
 
-__all__ = ["BundleResult", "DatumError", "IterationRecord", "SnoopingResult",
-           "INTERIOR_PARAMETERS", "bundle_adjustment", "critical_value", "data_snooping",
-           "inner_constraints", "normal_matrix_pattern", "student_t_cdf"]
+__all__ = ["BundleResult", "DatumError", "IterationRecord", "ReliabilityResult",
+           "SnoopingResult", "INTERIOR_PARAMETERS", "bundle_adjustment", "critical_value",
+           "data_snooping", "inner_constraints", "non_centrality", "normal_matrix_pattern",
+           "reliability", "student_t_cdf"]
 
 #: parameters that self-calibration can estimate, in this order
 INTERIOR_PARAMETERS = ("c", "x0", "y0", "A1", "A2", "A3", "B1", "B2", "C1", "C2")
@@ -88,20 +89,26 @@ class BundleResult:
     y0: float
     distortion: Distortion
     calibrate: tuple  #: the interior parameters estimated, in INTERIOR_PARAMETERS order
-    sigma0: float  #: a-posteriori σ0, image unit (NaN if r = 0)
+    sigma0: float  #: a-posteriori σ0 = √(vᵀPv/r) of an image coordinate, image unit (NaN: r = 0)
     n_observations: int  #: n = 2·N
-    n_unknowns: int  #: u = 6M + 3·(free points) + len(calibrate)
+    n_unknowns: int  #: u = 6M + 3·(free points) − (their fixed coordinates) + len(calibrate)
     datum_defect: int  #: d = 7 (free network) or 0
-    redundancy: int  #: r = n − u + d
+    redundancy: int  #: r = n + n_c − u + d (n_c: weighted control coordinates)
     residuals: np.ndarray  #: (N, 2) v = adjusted − observed, image unit
     qvv: np.ndarray  #: (N, 2) diagonal of Q_vv (P = I), dimensionless
     redundancy_numbers: np.ndarray  #: (N, 2) r_k = (Q_vv P)_kk
     exterior_covariance: np.ndarray  #: (M, 6, 6)
-    point_covariance: np.ndarray  #: (P, 3, 3), zero for fixed control points
+    point_covariance: np.ndarray  #: (P, 3, 3), zero rows/columns for fixed coordinates
     interior_covariance: np.ndarray  #: (k, k) for ``calibrate``
     iterations: int
     converged: bool
     history: tuple = field(default_factory=tuple)  #: IterationRecord per iteration
+    n_control_observations: int = 0  #: n_c: control coordinates observed with 0 < σ < ∞
+    control_sigma: np.ndarray | None = None  #: (P, 3) σ used: 0 fixed, inf unknown, object unit
+    sigma_image: float | None = None  #: a-priori σ of an image coordinate (weights), image unit
+    control_residuals: np.ndarray | None = None  #: (P, 3) v = adjusted − observed, object unit
+    control_qvv: np.ndarray | None = None  #: (P, 3) q_vv of the control observations, 1/p − Q_cc
+    control_redundancy_numbers: np.ndarray | None = None  #: (P, 3) r_c = p·q_vv,c (0: none)
 
     @property
     def standardized_residuals(self) -> np.ndarray:
@@ -109,6 +116,17 @@ class BundleResult:
         with np.errstate(divide="ignore", invalid="ignore"):
             return np.where(self.qvv > 1e-12, self.residuals / (self.sigma0 * np.sqrt(
                 np.maximum(self.qvv, 1e-300))), np.nan)
+
+    @property
+    def control_standardized_residuals(self) -> np.ndarray:
+        """τ_c = v_c / (σ̂0 √q_vv,c), (P, 3), for the control coordinates observed with
+        0 < σ < ∞; NaN elsewhere."""
+        q = self.control_qvv
+        if q is None:
+            return np.full(self.points.shape, np.nan)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(q > 1e-300, self.control_residuals / (self.sigma0 * np.sqrt(
+                np.maximum(q, 1e-300))), np.nan)
 
     @property
     def point_std(self) -> np.ndarray:
@@ -289,6 +307,106 @@ def data_snooping(result: BundleResult, alpha: float = 0.001, sigma: float | Non
     return SnoopingResult(test, float(alpha), float(crit), stat, idx[order].reshape(-1, 2))
 
 
+@dataclass(frozen=True)
+class ReliabilityResult:
+    """Internal and external reliability (Zuverlässigkeit; *wiarygodność*) of a bundle result."""
+
+    alpha: float  #: significance level of the (two-sided) w test
+    beta: float  #: power (Teststärke) with which a blunder of size ∇0 is found
+    delta0: float  #: non-centrality δ0 = z_{1−α/2} + z_β
+    sigma: float  #: σ of an image coordinate used, image unit
+    mdb: np.ndarray  #: (N, 2) ∇0 = δ0·σ/√r_k, image unit (inf: r_k = 0, not controlled)
+    external: np.ndarray  #: (N, 2) δ̄0 = δ0·√((1 − r_k)/r_k), dimensionless (inf: r_k = 0)
+    control_mdb: np.ndarray  #: (P, 3) ∇0 of the control observations, object unit (NaN: none)
+    control_external: np.ndarray  #: (P, 3) δ̄0 of the control observations (NaN: none)
+
+
+def non_centrality(alpha: float = 0.001, beta: float = 0.80) -> float:
+    r"""Non-centrality δ0 of Baarda's w test: a blunder of δ0·σ_v is found with power β.
+
+    .. math:: δ_0 = z_{1-α/2} + z_β,\qquad P(Z > z_q) = 1 - q
+
+    from the normal quantiles (:func:`critical_value`), the part of the lower tail beyond
+    −z_{1−α/2} neglected, as in Baarda's tables.
+
+    >>> round(non_centrality(0.001, 0.80), 2), round(non_centrality(0.05, 0.80), 2)
+    (4.13, 2.8)
+    """
+    alpha, beta = as_scalar(alpha, "alpha"), as_scalar(beta, "beta")
+    if not 0.0 < beta < 1.0:
+        raise ValueError(f"beta must be in (0, 1), got {beta!r}")
+    k = critical_value(alpha, "normal")
+    zb = (critical_value(2.0 * (1.0 - beta)) if beta > 0.5 else
+          -critical_value(2.0 * beta) if beta < 0.5 else 0.0)
+    return k + zb
+
+
+def reliability(result: BundleResult, alpha: float = 0.001, beta: float = 0.80,
+                sigma: float | None = None) -> ReliabilityResult:
+    r"""Internal and external reliability from the redundancy numbers (Baarda).
+
+    Internal reliability (innere Zuverlässigkeit, *wewnętrzna wiarygodność*): the minimal
+    detectable blunder (kleinster aufdeckbarer grober Fehler) of observation k,
+
+    .. math:: ∇_{0,k} = δ_0\,rac{σ_k}{\sqrt{r_k}},\qquad
+              ar δ_{0,k} = δ_0\sqrt{rac{1 - r_k}{r_k}}
+
+    External reliability (äußere Zuverlässigkeit, *zewnętrzna wiarygodność*): an undetected
+    blunder ∇0,k moves the unknowns by ∇x = Q_xx Aᵀ P e_k ∇0,k, whose size in the metric
+    of the unknowns is ``√(∇xᵀ N ∇x)/σ = δ̄0,k``; equivalently the adjusted observations
+    move by ``‖∇l̂‖ = ∇0,k √(1 − r_k)``.
+
+    Parameters
+    ----------
+    result : BundleResult
+    alpha, beta : float
+        Significance level and power of the w test (default 0.1 %, 80 %: δ0 = 4.13).
+    sigma : float, optional
+        A-priori σ of an image coordinate (image unit); default ``result.sigma_image``, or
+        σ̂0 if that is None. A control observation has σ_c = control_sigma·σ/σ_image.
+
+    Returns
+    -------
+    ReliabilityResult
+
+    Examples
+    --------
+    >>> X = np.array([[0, 0, 0], [10, 0, 1], [0, 10, 2], [10, 10, 0], [5, 5, 3.0]])
+    >>> ext = np.array([[3.0, 5, 30, 0, 0, 0], [7.0, 5, 30, 0, 0, 0]])
+    >>> obs = [project(X, e[:3], rotation_opk(*e[3:]), 20.0) for e in ext]
+    >>> res = bundle_adjustment(np.vstack(obs), np.repeat([0, 1], 5), np.tile(np.arange(5), 2),
+    ...                         ext, X, 20.0, control=[0, 1, 2, 3])
+    >>> rel = reliability(res, sigma=0.001)
+    >>> round(rel.delta0, 3), bool(np.all(rel.mdb >= rel.delta0 * 0.001))
+    (4.132, True)
+    """
+    if not isinstance(result, BundleResult):
+        raise TypeError(f"result must be a BundleResult, got {type(result).__name__}")
+    d0 = non_centrality(alpha, beta)
+    if sigma is None:
+        sigma = result.sigma_image if result.sigma_image is not None else result.sigma0
+    sigma = as_scalar(sigma, "sigma", positive=True)
+
+    def measures(rk, sk):
+        ok = rk > 1e-12
+        with np.errstate(divide="ignore", invalid="ignore"):
+            mdb = np.where(ok, d0 * sk / np.sqrt(np.where(ok, rk, 1.0)), np.inf)
+            ext = np.where(ok, d0 * np.sqrt(np.maximum(1.0 - rk, 0.0) / np.where(ok, rk, 1.0)),
+                           np.inf)
+        return mdb, ext
+
+    mdb, ext = measures(result.redundancy_numbers, sigma)
+    P = len(result.points)
+    cm, ce = np.full((P, 3), np.nan), np.full((P, 3), np.nan)
+    if result.n_control_observations:
+        sig = result.control_sigma
+        has = (result.control_qvv > 0) & np.isfinite(sig) & (sig > 0)
+        m, e = measures(result.control_redundancy_numbers,
+                        np.where(has, sig, 0.0) * sigma / result.sigma_image)
+        cm[has], ce[has] = m[has], e[has]
+    return ReliabilityResult(float(alpha), float(beta), float(d0), float(sigma), mdb, ext, cm, ce)
+
+
 # -- structure --------------------------------------------------------------------------------------
 
 def inner_constraints(points) -> np.ndarray:
@@ -405,18 +523,88 @@ def _control_mask(control, P):
     return ctrl
 
 
-def _check_geometry(j, i, ext, pts, ctrl, datum):
+_XYZ = "XYZ"
+
+
+def _control_sigma(control_sigma, control, ctrl, P):
+    """σ (P, 3) per control coordinate: 0 fixed, inf unknown, > 0 observed with that σ.
+
+    Without ``control_sigma`` the ``control`` points are fixed. With ``control`` given,
+    ``control_sigma`` is a scalar, (3,) or (K, 3) for the K control points (in the order of
+    ``control``; a mask: ascending); without ``control`` it is (P, 3) for all points."""
+    if control_sigma is None:
+        return np.where(ctrl[:, None], 0.0, np.inf) * np.ones((1, 3))
+    if isinstance(control_sigma, (str, bytes)) or getattr(
+            getattr(control_sigma, "dtype", None), "kind", "") in ("c", "S", "U"):
+        raise ValueError(f"control_sigma must be real numbers (0: fixed, inf: unknown, > 0: σ "
+                         f"in object units), got {control_sigma!r}")
+    try:
+        s = np.array(control_sigma, float)
+    except (TypeError, ValueError):
+        raise ValueError(f"control_sigma must be real numbers (0: fixed, inf: unknown, > 0: σ in "
+                         f"object units), got {control_sigma!r}") from None
+    if control is not None:
+        c_arr = np.asarray(control)
+        order = np.flatnonzero(c_arr) if c_arr.dtype == bool else c_arr.astype(int).ravel()
+        K = len(order)
+        if s.ndim == 0 or s.shape == (3,):
+            s = np.broadcast_to(s, (K, 3))
+        elif s.shape != (K, 3):
+            raise ValueError(f"control_sigma has shape {s.shape}; with control ({K} points) "
+                             f"expected a scalar, (3,) or ({K}, 3) in the order of control — or "
+                             f"leave out control and pass ({P}, 3) for all points")
+        full = np.full((P, 3), np.inf)
+        full[order] = s
+    else:
+        if s.shape != (P, 3):
+            raise ValueError(f"control_sigma has shape {s.shape}; expected ({P}, 3) = σX, σY, σZ "
+                             "per point (0: fixed, inf: unknown), or pass control= as well")
+        full = s.copy()
+    bad = np.argwhere(np.isnan(full) | (full < 0))
+    if len(bad):
+        p, e = (int(v) for v in bad[0])
+        raise ValueError(f"control_sigma of point {p}, coordinate {_XYZ[e]} is "
+                         f"{float(full[p, e])!r}: use 0 (fixed), inf (unknown) or a standard deviation > 0 (object unit)")
+    return full
+
+
+def _check_geometry(j, i, ext, pts, sig, datum):
     per_image = np.bincount(j, minlength=len(ext))
     if per_image.min() < 3:
         k = int(np.argmin(per_image))
         raise DatumError(f"image {k} has {per_image[k]} observed points; at least 3 are needed "
                          "for its six orientation unknowns")
     rays = np.bincount(i, minlength=len(pts))
-    lonely = np.flatnonzero((rays < 2) & ~ctrl)
+    known = np.isfinite(sig)
+    ctrl = known.all(axis=1)
+    lonely = np.flatnonzero((rays < 2) & ~known.any(axis=1))
     if len(lonely):
         k = int(lonely[0])
         raise DatumError(f"point {k} is observed in {rays[k]} image(s) and is not a control "
                          "point: a new point needs at least two rays")
+    unseen = np.flatnonzero((rays == 0) & ~ctrl)
+    if len(unseen):
+        k = int(unseen[0])
+        raise DatumError(f"point {k} is observed in no image and its coordinate(s) "
+                         f"{''.join(_XYZ[e] for e in np.flatnonzero(~known[k]))} are unknown")
+    if datum == "control" and np.any(known.any(axis=1) & ~ctrl & (rays > 0)):
+        # partial control (e.g. heights only): the known coordinates must fix the 7 parameters
+        # of a spatial similarity, i.e. their rows of the inner constraints B have rank 7
+        use = known & (rays > 0)[:, None]
+        rows = np.flatnonzero(use.any(axis=1))
+        X = pts[rows]
+        scale = float(np.max(np.ptp(X, axis=0))) or 1.0
+        B = inner_constraints(X).reshape(-1, 3, 7) * np.r_[1, 1, 1, [1 / scale] * 4]
+        B = B[use[rows]]
+        sv = np.linalg.svd(B, compute_uv=False)
+        rank = int(np.sum(sv > 1e-9 * sv[0])) if len(sv) else 0
+        if rank < 7:
+            n = use.sum(axis=0)
+            raise DatumError(f"the known control coordinates ({n[0]} X, {n[1]} Y, {n[2]} Z) fix "
+                             f"only {rank} of the 7 datum parameters (e.g. heights alone leave "
+                             "the plan shift, the rotation about Z and the scale free): add plan "
+                             "control or use datum='free'")
+        return
     if datum == "control":
         used = np.flatnonzero(ctrl & (rays > 0))
         if len(used) < 3:
@@ -451,6 +639,7 @@ def _check_point_blocks(Npp, free):
 
 def bundle_adjustment(xy, image_index, point_index, exterior, points, c, x0=0.0, y0=0.0,
                       distortion=None, *, control=None, datum: str = "control",
+                      control_sigma=None, sigma_image=None,
                       calibrate=(), tol: float = 1e-10, max_iter: int = 30,
                       check: bool = True, callback=None) -> BundleResult:
     r"""Bundle adjustment of a block by Gauss–Newton on the reduced normal equations.
@@ -464,7 +653,8 @@ def bundle_adjustment(xy, image_index, point_index, exterior, points, c, x0=0.0,
     exterior : array_like, shape (M, 6)
         Approximate ``(X0, Y0, Z0, ω, φ, κ)`` per image (object unit, radians).
     points : array_like, shape (P, 3)
-        Approximate object points; the rows of control points are their fixed coordinates.
+        Approximate object points; the rows of control points hold their control coordinates
+        (fixed or observed), and approximate values for their unknown coordinates.
     c, x0, y0 : float
         Camera constant (> 0) and principal point (image unit), common to all images.
     distortion : Distortion, optional
@@ -473,8 +663,24 @@ def bundle_adjustment(xy, image_index, point_index, exterior, points, c, x0=0.0,
         Control points (Passpunkte), held fixed: their indices (0 … P − 1, each once) or a
         bool mask of length P.
     datum : {'control', 'free'}
-        ``'control'``: datum by the control points (≥ 3, not on a line); ``'free'``: free
-        network with the seven inner constraints on all object points (``control`` ignored).
+        ``'control'``: datum by the control points (≥ 3, not on a line; with partial control
+        the known coordinates must fix all seven similarity parameters); ``'free'``: free
+        network with the seven inner constraints on all object points (``control`` and
+        ``control_sigma`` ignored).
+    control_sigma : array_like, optional
+        Control per coordinate (Passpunkte als Beobachtungen, Lage- und Höhenpasspunkte),
+        object unit: ``0`` the coordinate is fixed (error-free), ``inf`` unknown, ``σ > 0``
+        observed with standard deviation σ (a pseudo-observation ``X_i,e = points[i, e]``
+        with weight ``p = (σ_image/σ)²``, image observations having weight 1). Shape (P, 3)
+        for all points when ``control`` is None; with ``control`` a scalar, (3,) or (K, 3)
+        for its K points in its order (the other points unknown). Default: ``control``
+        points fixed. E.g. a height control point (Höhenpasspunkt) is ``(inf, inf, 0)``, a
+        plan control point (Lagepasspunkt) ``(0, 0, inf)``, a GNSS point ``(0.02,) * 3``.
+    sigma_image : float, optional
+        A-priori σ of an image coordinate (image unit, e.g. 0.003 mm), > 0: sets the weights
+        of the control observations. Needed only when ``control_sigma`` has a value
+        0 < σ < ∞; it changes no result of an adjustment without such observations (σ0 is
+        always the a-posteriori σ of an image coordinate, the weight-1 observation).
     calibrate : iterable of str
         Interior parameters to estimate (self-calibration), from ``INTERIOR_PARAMETERS``.
     tol : float
@@ -488,11 +694,23 @@ def bundle_adjustment(xy, image_index, point_index, exterior, points, c, x0=0.0,
     -------
     BundleResult
 
+    Notes
+    -----
+    With control observations the model is ``v = A dx − l`` with weights
+    ``P = diag(1 (image), p_c = σ_image²/σ_c² (control))``; they add ``p_c`` to the diagonal
+    of the point's 3 × 3 block ``N_ii`` and ``−p_c·v_c`` to ``b_i``, so the Schur complement
+    keeps its shape. A fixed coordinate of a partially known point has no unknown (its column
+    of A is dropped). Then ``σ̂0² = (vᵀv + Σ p_c v_c²)/r``, ``r = n + n_c − u + d`` and the
+    control redundancy numbers ``r_c = 1 − p_c (Q_xx)_cc`` with
+    ``Σ_k r_k + Σ_c r_c = r``.
+
     Raises
     ------
     ValueError
         Shapes, NaN, indices out of range (``control`` too: integer indices, each once, or a
-        bool mask of length P), unknown parameters, ``max_iter < 1``, ``tol ≤ 0``.
+        bool mask of length P), unknown parameters, ``max_iter < 1``, ``tol ≤ 0``;
+        ``control_sigma`` of the wrong shape, negative or NaN; ``sigma_image`` missing or
+        not > 0 when it is needed.
     DatumError
         Datum not fixed, image with < 3 points, a new point seen once, a new point whose rays
         are parallel (zero base), singular normal matrix.
@@ -508,13 +726,34 @@ def bundle_adjustment(xy, image_index, point_index, exterior, points, c, x0=0.0,
     ...                         ext + 0.01, X, 20.0, control=[0, 1, 2, 3])
     >>> res.redundancy, bool(np.allclose(res.exterior, ext)), bool(np.allclose(res.points, X))
     (5, True, True)
+
+    Point 4 as a height control point (Z fixed), points 0–3 observed with σ = 1 cm
+    (σ_image = 1 µm): r = n + n_c − u = 20 + 12 − (12 + 12 + 2) = 6:
+
+    >>> sig = np.array([[0.01] * 3] * 4 + [[np.inf, np.inf, 0.0]])
+    >>> res = bundle_adjustment(np.vstack(obs), np.repeat([0, 1], 5), np.tile(np.arange(5), 2),
+    ...                         ext + 0.01, X, 20.0, control_sigma=sig, sigma_image=0.001)
+    >>> res.n_control_observations, res.n_unknowns, res.redundancy
+    (12, 26, 6)
+    >>> round(float(res.redundancy_numbers.sum() + res.control_redundancy_numbers.sum()), 9)
+    6.0
     """
     xy, j, i, ext, pts, ctrl = _check_inputs(xy, image_index, point_index, exterior, points,
                                              control)
     if datum not in ("control", "free"):
         raise ValueError(f"datum must be 'control' or 'free', got {datum!r}")
+    sig = _control_sigma(control_sigma, control, ctrl, len(pts))
     if datum == "free":
         ctrl[:] = False
+        sig[:] = np.inf
+    weighted = np.isfinite(sig) & (sig > 0)
+    if weighted.any():
+        if sigma_image is None:
+            raise ValueError("sigma_image (the a-priori σ of an image coordinate, image unit) is "
+                             "needed to weight control coordinates observed with 0 < σ < inf")
+        sigma_image = as_scalar(sigma_image, "sigma_image", positive=True)
+    elif sigma_image is not None:
+        sigma_image = as_scalar(sigma_image, "sigma_image", positive=True)
     tol, max_iter = as_tolerance(tol), as_max_iter(max_iter)
     calib = (calibrate,) if isinstance(calibrate, str) else tuple(calibrate)
     unknown = [n for n in calib if n not in INTERIOR_PARAMETERS]
@@ -528,17 +767,29 @@ def bundle_adjustment(xy, image_index, point_index, exterior, points, c, x0=0.0,
                 "y0": as_scalar(y0, "y0")}
     r0 = 0.0 if distortion is None else distortion.params["r0"]
     interior |= {k: (0.0 if distortion is None else distortion.params[k]) for k in _DIST}
-    _check_geometry(j, i, ext, pts, ctrl, datum)
+    _check_geometry(j, i, ext, pts, sig, datum)
 
     M, P, k = len(ext), len(pts), len(calib)
+    rays = np.bincount(i, minlength=P)
+    # points without unknowns: all coordinates fixed, or known and in no image (nothing to adjust)
+    ctrl = np.all(sig == 0, axis=1) | (np.all(np.isfinite(sig), axis=1) & (rays == 0))
     free = np.flatnonzero(~ctrl)
     slot = np.full(P, -1)
     slot[free] = np.arange(len(free))
-    n_obs, u = 2 * len(xy), 6 * M + 3 * len(free) + k
+    fixc = sig[free] == 0  # (Pf, 3) fixed coordinates of partially known points
+    wts = np.zeros((len(free), 3))  # weights p_c of the control observations (0: none)
+    wts[weighted[free]] = (sigma_image / sig[free][weighted[free]]) ** 2
+    partial, observed = bool(fixc.any()), bool(np.any(wts > 0))
+    colmask = (sig != 0).astype(float)  # (P, 3): 0 drops the column of a fixed coordinate
+    diag_extra = wts + fixc  # added to the diagonal of N_ii
+    control_obs = pts[free].copy()  # the observed control coordinates
+    n_obs, n_c = 2 * len(xy), int(np.count_nonzero(wts))
+    u = 6 * M + 3 * len(free) - int(fixc.sum()) + k
     d = 7 if datum == "free" else 0
-    r = n_obs - u + d
+    r = n_obs + n_c - u + d
     if r < 0:
-        raise DatumError(f"more unknowns than observations: n = {n_obs}, u = {u}, d = {d}")
+        raise DatumError(f"more unknowns than observations: n = {n_obs} + {n_c} (control), "
+                         f"u = {u}, d = {d}")
     extent = float(np.max(np.ptp(pts, axis=0))) or 1.0
     ny = 6 * M + k + d
     cols = np.column_stack([6 * np.arange(M)[:, None] + np.arange(6),  # of image a, interior
@@ -582,7 +833,10 @@ def bundle_adjustment(xy, image_index, point_index, exterior, points, c, x0=0.0,
                     A[:, e, 6 + n] += 1.0
                 elif name != "c":
                     A[:, :, 6 + n] = Jpar[:, :, _DIST.index(name)]
-        return v, A, np.ascontiguousarray(J[:, :, 6:])
+        Ap = np.ascontiguousarray(J[:, :, 6:])
+        if partial:
+            Ap *= colmask[i][:, None, :]
+        return v, A, Ap
 
     def normals(v, A, Ap, pts):
         """Reduced normal equations, accumulated in blocks: 6 × 6 (+ k) per image, 3 × 3 per
@@ -600,9 +854,12 @@ def bundle_adjustment(xy, image_index, point_index, exterior, points, c, x0=0.0,
         Npy[:, :, 6 * M:6 * M + k] = Sp[:, :, 9:9 + k]
         if d:
             Npy[:, :, 6 * M + k:] = inner_constraints(pts).reshape(P, 3, 7)[free]
-        bp = Sp[:, :, -1]
-        _check_point_blocks(Sp[:, :, :3], free)
-        Ninv = np.linalg.inv(Sp[:, :, :3])
+        bp, Npp = Sp[:, :, -1], Sp[:, :, :3]
+        if partial or observed:
+            Npp = Npp + diag_extra[:, :, None] * np.eye(3)
+            bp = bp - wts * (pts[free] - control_obs)
+        _check_point_blocks(Npp, free)
+        Ninv = np.linalg.inv(Npp)
         T = Ninv @ Npy  # (Pf, 3, ny)
         K = Nyy - Npy.reshape(-1, ny).T @ T.reshape(-1, ny)
         rhs = by - T.reshape(-1, ny).T @ bp.ravel()
@@ -632,6 +889,9 @@ def bundle_adjustment(xy, image_index, point_index, exterior, points, c, x0=0.0,
         Kinv = scale[:, None] * np.linalg.inv(Ks) * scale[None, :]
         return Kinv if rhs is None else Kinv @ rhs
 
+    def vtpv_control(pts):
+        return float(np.sum(wts * (pts[free] - control_obs) ** 2)) if observed else 0.0
+
     history, converged, it = [], False, 0
     for it in range(1, max_iter + 1):
         try:
@@ -645,13 +905,14 @@ def bundle_adjustment(xy, image_index, point_index, exterior, points, c, x0=0.0,
             raise ConvergenceError(f"bundle adjustment diverged in iteration {it}: non-finite step")
         de = dy[:6 * M].reshape(M, 6)
         ext = ext + de
+        pts_before = pts
         pts = pts.copy()
         pts[free] += dp
         for n, name in enumerate(calib):
             interior[name] += dy[6 * M + n]
         dl = max(float(np.max(np.abs(de[:, :3]))), float(np.max(np.abs(dp), initial=0.0)))
         da = float(np.max(np.abs(de[:, 3:])))
-        rec = IterationRecord(it, float(np.sum(v**2)), dl, da)
+        rec = IterationRecord(it, float(np.sum(v**2)) + vtpv_control(pts_before), dl, da)
         history.append(rec)
         if callback is not None:
             callback(rec)
@@ -677,14 +938,31 @@ def bundle_adjustment(xy, image_index, point_index, exterior, points, c, x0=0.0,
     qhat = ((G.reshape(-1, ny) @ Kinv) * G.reshape(-1, ny)).sum(axis=1).reshape(-1, 2)
     qhat[m] += ((Ap[m] @ Ninv[s]) * Ap[m]).sum(axis=2)
     qvv = np.clip(1.0 - qhat, 0.0, 1.0)
-    sigma0 = float(np.sqrt(np.sum(v**2) / r)) if r > 0 else float("nan")
+    sigma0 = float(np.sqrt((np.sum(v**2) + vtpv_control(pts)) / r)) if r > 0 else float("nan")
     s2 = sigma0**2 if r > 0 else float("nan")
     ext_cov = s2 * np.stack([Kinv[6 * a:6 * a + 6, 6 * a:6 * a + 6] for a in range(M)])
     pcov = np.zeros((P, 3, 3))
-    pcov[free] = s2 * (Ninv + T @ Kinv @ T.transpose(0, 2, 1))
+    Qpp = Ninv + T @ Kinv @ T.transpose(0, 2, 1)
+    if partial:
+        Qpp *= colmask[free][:, :, None] * colmask[free][:, None, :]
+    pcov[free] = s2 * Qpp
     icov = s2 * Kinv[6 * M:6 * M + k, 6 * M:6 * M + k]
+    # control observations: v_c, q_vv,c = 1/p − Q_cc, r_c = p·q_vv,c
+    cres, cqvv, crn = np.zeros((P, 3)), np.zeros((P, 3)), np.zeros((P, 3))
+    if weighted.any():
+        unseen = ctrl & weighted.any(axis=1)  # known, in no image: a priori σ², no redundancy
+        pcov[unseen] = s2 * np.einsum("pi,ij->pij", np.where(weighted[unseen], (
+            sig[unseen] / sigma_image) ** 2, 0.0), np.eye(3))
+        w = wts > 0
+        with np.errstate(divide="ignore"):
+            q = np.where(w, 1.0 / np.where(w, wts, 1.0) - np.einsum("pii->pi", Qpp), 0.0)
+        cqvv[free] = np.maximum(q, 0.0)
+        crn[free] = np.clip(wts * q, 0.0, 1.0)
+        cres[free] = np.where(w, pts[free] - control_obs, 0.0)
     dist = Distortion(r0=r0, **{n: interior[n] for n in _DIST})
     return BundleResult(ext, pts, float(interior["c"]), float(interior["x0"]),
                         float(interior["y0"]), dist, calib,
                         sigma0, n_obs, u, d, r, v, qvv, qvv.copy(), ext_cov, pcov, icov, it,
-                        converged, tuple(history))
+                        converged, tuple(history), n_control_observations=n_c,
+                        control_sigma=sig, sigma_image=sigma_image, control_residuals=cres,
+                        control_qvv=cqvv, control_redundancy_numbers=crn)

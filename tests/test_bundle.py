@@ -301,7 +301,9 @@ def test_t_critical_value_agrees_with_mpmath_derivation():
 @settings(max_examples=40, deadline=None)
 @given(st.floats(-30.0, 30.0), st.integers(1, 300))
 def test_t_cdf_round_trip(t, dof):
-    assert bd.student_t_cdf(t, dof) == pytest.approx(stats.t.cdf(t, dof), abs=1e-12)
+    # SciPy's t.cdf for ν = 1 returns 0.5 for |t| ≲ 1e-9; the Cauchy cdf is closed-form
+    ref = 0.5 + math.atan(t) / math.pi if dof == 1 else stats.t.cdf(t, dof)
+    assert bd.student_t_cdf(t, dof) == pytest.approx(ref, abs=1e-12)
     p = 2 * (1 - bd.student_t_cdf(abs(t), dof))
     if 1e-10 < p < 1 - 1e-10:
         assert bd.critical_value(p, "t", dof) == pytest.approx(abs(t), rel=1e-7, abs=1e-9)
@@ -521,3 +523,231 @@ def test_inner_constraints_and_pattern_check_their_input():
         bd.normal_matrix_pattern([0, -1], [0, 0], 2, 1)
     with pytest.raises(ValueError, match=r"fixed contains 3, outside 0 … 0"):
         bd.normal_matrix_pattern([0, 1], [0, 0], 2, 1, fixed=[3])
+
+
+# -- control points with errors and partial control (Polish notes: Xw, Yw, Zw known or observed) -
+
+SIG_IMG = 0.003  # a-priori σ of an image coordinate, mm
+
+
+def _weighted_residual_function(xy, ji, pi, n_img, sig, P_obs):
+    """x ↦ (image residuals/σ_image, control residuals/σ_c) with x = (exterior 6M, every point
+    coordinate with σ ≠ 0); the test's own collinearity as in :func:`_residual_function`."""
+    unknown = sig != 0                                   # (P, 3)
+    observed = np.isfinite(sig) & (sig > 0)
+
+    def fun(x):
+        ext = x[:6 * n_img].reshape(-1, 6)
+        P = P_obs.copy()
+        P[unknown] = x[6 * n_img:]
+        out = np.empty_like(xy)
+        for j in range(n_img):
+            m = ji == j
+            k = (P[pi[m]] - ext[j, :3]) @ _rot(*ext[j, 3:])
+            out[m] = np.column_stack([-C * k[:, 0] / k[:, 2], -C * k[:, 1] / k[:, 2]]) - xy[m]
+        ctrl = (P - P_obs)[observed] / sig[observed]
+        return np.r_[out.ravel() / SIG_IMG, ctrl]
+    return fun, unknown, observed
+
+
+@pytest.fixture(scope="module")
+def mixed_control():
+    """Corners observed with σ = 5 cm, two height and two plan control points (fixed), the
+    rest new; start values off as in :func:`_start`."""
+    xy, ji, pi, ext, P = _block()
+    corners = _corners(P)
+    ext0, P0 = _start(ext, P, corners)
+    sig = np.full((len(P), 3), np.inf)
+    sig[corners] = 0.05
+    height, plan = [5, 12], [20, 30]
+    sig[height, 2] = 0.0
+    sig[plan, :2] = 0.0
+    P0[corners] = P[corners] + np.random.default_rng(7).normal(0, 0.05, (4, 3))  # "measured"
+    P0[height, 2], P0[plan, :2] = P[height, 2], P[plan, :2]
+    res = bd.bundle_adjustment(xy, ji, pi, ext0, P0, C, control_sigma=sig, sigma_image=SIG_IMG)
+    return xy, ji, pi, ext0, P0, sig, res
+
+
+def test_weighted_and_partial_control_agree_with_scipy(mixed_control):
+    xy, ji, pi, ext0, P0, sig, res = mixed_control
+    fun, unknown, observed = _weighted_residual_function(xy, ji, pi, len(ext0), sig, P0)
+    x = least_squares(fun, np.r_[ext0.ravel(), P0[unknown]], x_scale="jac", method="lm",
+                      xtol=1e-15, ftol=1e-15, gtol=1e-15).x
+    M = len(ext0)
+    # polish with Gauss–Newton on the dense finite-difference Jacobian
+    for _ in range(2):
+        J = approx_derivative(fun, x, method="3-point", abs_step=1e-6)
+        x = x + np.linalg.lstsq(J, -fun(x), rcond=None)[0]
+    J = approx_derivative(fun, x, method="3-point", abs_step=1e-6)
+    f = fun(x)
+    np.testing.assert_allclose(res.exterior[:, :3], x[:6 * M].reshape(-1, 6)[:, :3], atol=1e-5)
+    np.testing.assert_allclose(res.exterior[:, 3:], x[:6 * M].reshape(-1, 6)[:, 3:], atol=1e-8)
+    np.testing.assert_allclose(res.points[unknown], x[6 * M:], atol=1e-5)
+    np.testing.assert_array_equal(res.points[~unknown], P0[~unknown])     # fixed stay
+    np.testing.assert_allclose(res.residuals.ravel(), f[:2 * len(xy)] * SIG_IMG, atol=1e-9)
+    np.testing.assert_allclose(res.control_residuals[observed], f[2 * len(xy):] * sig[observed],
+                               atol=1e-7)
+    # redundancy by hand: 2 per ray + 3 per corner; 6 per image + 3 per point − fixed coords
+    n, n_c = 2 * len(xy), 3 * 4
+    u = 6 * M + 3 * len(P0) - 2 * 1 - 2 * 2
+    assert (res.n_observations, res.n_control_observations, res.n_unknowns) == (n, n_c, u)
+    assert res.redundancy == n + n_c - u == len(f) - len(x)
+    # σ0 (image unit) and the covariance: (JᵀJ)⁻¹ of the weighted problem is σ_image²·Q
+    r = len(f) - len(x)
+    assert math.isclose(res.sigma0, SIG_IMG * math.sqrt(f @ f / r), rel_tol=1e-7)
+    Q = np.linalg.inv(J.T @ J) * (f @ f / r)
+    cols = np.full(sig.shape, -1)
+    cols[unknown] = 6 * M + np.arange(unknown.sum())
+    for p in [5, 20, *_corners(P0), 40]:
+        c = cols[p][cols[p] >= 0]
+        e = np.flatnonzero(cols[p] >= 0)
+        np.testing.assert_allclose(res.point_covariance[p][np.ix_(e, e)], Q[np.ix_(c, c)],
+                                   rtol=1e-4, atol=1e-12)
+        assert np.all(res.point_covariance[p][cols[p] < 0] == 0.0)
+    for k in range(M):
+        np.testing.assert_allclose(res.exterior_covariance[k], Q[6 * k:6 * k + 6, 6 * k:6 * k + 6],
+                                   rtol=1e-4, atol=1e-14)
+    # redundancy numbers of every observation, the control ones included: diag(I − J(JᵀJ)⁻¹Jᵀ)
+    rk = 1.0 - np.einsum("ij,ji->i", J, np.linalg.solve(J.T @ J, J.T))
+    np.testing.assert_allclose(res.redundancy_numbers.ravel(), rk[:n], atol=1e-6)
+    np.testing.assert_allclose(res.control_redundancy_numbers[observed], rk[n:], atol=1e-6)
+    assert np.all(res.control_redundancy_numbers[~observed] == 0.0)
+    assert math.isclose(res.redundancy_numbers.sum() + res.control_redundancy_numbers.sum(), r,
+                        rel_tol=1e-9)
+    tau = res.control_standardized_residuals
+    assert np.all(np.isfinite(tau[observed])) and np.all(np.isnan(tau[~observed]))
+
+
+def test_small_control_sigma_is_fixed_control_and_large_is_a_new_point(block):
+    xy, ji, pi, ext, P, control, ext0, P0, fixed = block
+    tight = bd.bundle_adjustment(xy, ji, pi, ext0, P0, C, control=control, control_sigma=1e-9,
+                                 sigma_image=SIG_IMG)
+    np.testing.assert_allclose(tight.points, fixed.points, atol=1e-9)
+    np.testing.assert_allclose(tight.exterior, fixed.exterior, atol=1e-9)
+    assert tight.redundancy == fixed.redundancy          # + 3·4 observations, + 3·4 unknowns
+    assert math.isclose(tight.sigma0, fixed.sigma0, rel_tol=1e-9)
+    np.testing.assert_allclose(tight.point_covariance, fixed.point_covariance, atol=1e-14)
+    np.testing.assert_allclose(tight.control_redundancy_numbers[control], 0.0, atol=1e-9)
+    # σ = 0 passed explicitly is the fixed control, bit for bit; sigma_image changes nothing
+    same = bd.bundle_adjustment(xy, ji, pi, ext0, P0, C, control=control, control_sigma=0.0,
+                                sigma_image=0.5)
+    np.testing.assert_array_equal(same.points, fixed.points)
+    assert same.sigma0 == fixed.sigma0 and same.n_control_observations == 0
+    # one corner observed with σ = 1e4 m (others fixed): it becomes a new point
+    loose = np.zeros((len(control), 3))
+    loose[0] = 1e4
+    weak = bd.bundle_adjustment(xy, ji, pi, ext0, P0, C, control=control, control_sigma=loose,
+                                sigma_image=SIG_IMG)
+    rest = list(control[1:])
+    new = bd.bundle_adjustment(xy, ji, pi, ext0, P0, C, control=rest)
+    np.testing.assert_allclose(weak.points, new.points, atol=1e-6)
+    # the same cofactors Q (σ̂0² differs: 3 more observations, the same vᵀPv)
+    np.testing.assert_allclose(weak.point_covariance[control[0]] / weak.sigma0**2,
+                               new.point_covariance[control[0]] / new.sigma0**2, rtol=1e-5)
+    assert weak.redundancy == new.redundancy + 3
+    assert math.isclose(weak.sigma0**2 * weak.redundancy, new.sigma0**2 * new.redundancy,
+                        rel_tol=1e-6)
+    np.testing.assert_allclose(weak.control_redundancy_numbers[control[0]], 1.0, atol=1e-9)
+
+
+def test_height_and_plan_control_points(block):
+    """Four corners in plan only (X, Y fixed), heights from four others: datum fixed."""
+    xy, ji, pi, ext, P, control, ext0, P0, _ = block
+    sig = np.full((len(P), 3), np.inf)
+    sig[control, :2] = 0.0
+    heights = [10, 25, 50, 70]
+    sig[heights, 2] = 0.0
+    P0 = P0.copy()
+    P0[heights, 2] = P[heights, 2]
+    res = bd.bundle_adjustment(xy, ji, pi, ext0, P0, C, control_sigma=sig)
+    assert res.n_unknowns == 6 * len(ext) + 3 * len(P) - 8 - 4
+    assert res.redundancy == 2 * len(xy) - res.n_unknowns
+    np.testing.assert_array_equal(res.points[control, :2], P0[control, :2])
+    np.testing.assert_array_equal(res.points[heights, 2], P0[heights, 2])
+    assert np.all(res.point_std[control, 2] > 0) and np.all(res.point_std[control, :2] == 0)
+    assert np.abs(res.points - P).max() < 0.5
+    assert math.isclose(res.redundancy_numbers.sum(), res.redundancy, rel_tol=1e-9)
+    # the same block with fixed corners and the full sparse normal equations of SciPy's route
+    fun, unknown, _ = _weighted_residual_function(xy, ji, pi, len(ext), sig, P0)
+    x = np.r_[res.exterior.ravel(), res.points[unknown]]
+    J = approx_derivative(fun, x, method="3-point", abs_step=1e-6)
+    assert np.linalg.norm(J.T @ fun(x)) < 1e-6 * np.linalg.norm(J.T @ J) ** 0.5  # a minimum
+
+
+@pytest.mark.parametrize("known, text", [
+    ((slice(None), [2]), "fix only 4 of the 7"),             # heights only
+    ((slice(None), [0, 1]), "fix only 6 of the 7"),          # plan only: height free
+])
+def test_partial_control_that_leaves_the_datum_free_is_a_datum_error(block, known, text):
+    xy, ji, pi, ext, P, control, ext0, P0, _ = block
+    sig = np.full((len(P), 3), np.inf)
+    sig[np.ix_(control, known[1])] = 0.0
+    with pytest.raises(bd.DatumError, match=text):
+        bd.bundle_adjustment(xy, ji, pi, ext0, P0, C, control_sigma=sig)
+
+
+@pytest.mark.parametrize("kwargs, text", [
+    (dict(control_sigma=-0.01), r"point \d+, coordinate X is -0.01"),
+    (dict(control_sigma=[0.01, np.nan, 0.01]), "coordinate Y is nan"),
+    (dict(control_sigma=np.ones((3, 3))), r"shape \(3, 3\); with control \(4 points\)"),
+    (dict(control_sigma="0.01"), "real numbers"),
+    (dict(control_sigma=0.01), "sigma_image"),
+    (dict(control_sigma=0.01, sigma_image=-1.0), "sigma_image must be > 0"),
+    (dict(control=None, control_sigma=np.ones(4)), r"shape \(4,\); expected \(90, 3\)"),
+])
+def test_bad_control_sigma_is_named(block, kwargs, text):
+    args, kw = _args(block)
+    with pytest.raises(ValueError, match=text):
+        bd.bundle_adjustment(*args, **(kw | kwargs))
+
+
+# -- reliability ------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("alpha, beta", [(0.001, 0.80), (0.05, 0.80), (0.01, 0.90), (0.1, 0.3)])
+def test_non_centrality_from_scipy_quantiles(alpha, beta):
+    ref = stats.norm.ppf(1 - alpha / 2) + stats.norm.ppf(beta)
+    assert bd.non_centrality(alpha, beta) == pytest.approx(ref, rel=1e-10)
+
+
+def test_reliability_from_the_dense_redundancy_numbers(block, block_scipy):
+    xy, ji, pi, ext, P, control, ext0, P0, res = block
+    _, _, J, _ = block_scipy
+    Jd = J.toarray()
+    rk = 1.0 - np.einsum("ij,ji->i", Jd, np.linalg.solve(Jd.T @ Jd, Jd.T))
+    d0 = stats.norm.ppf(1 - 0.0005) + stats.norm.ppf(0.8)
+    rel = bd.reliability(res, sigma=SIG_IMG)
+    np.testing.assert_allclose(rel.mdb.ravel(), d0 * SIG_IMG / np.sqrt(rk), rtol=1e-5)
+    np.testing.assert_allclose(rel.external.ravel(), d0 * np.sqrt((1 - rk) / rk), rtol=1e-5)
+    # external reliability: ∇0 on one observation, re-adjusted; the adjusted observations move
+    # by ∇0·√(1 − r_k), i.e. ∇xᵀN∇x = ∇0²(1 − r_k), and ∇x = (JᵀJ)⁻¹Jᵀe_k∇0 (linearised)
+    k = int(np.argmax(rk[::2] > 0.5)) * 2            # an x′ with a good redundancy number
+    obs, e = divmod(k, 2)
+    moved = xy.copy()
+    moved[obs, e] += rel.mdb[obs, e]
+    again = bd.bundle_adjustment(moved, ji, pi, res.exterior, res.points, C, control=control)
+    dl = (moved + again.residuals - (xy + res.residuals)).ravel()
+    assert math.isclose(np.linalg.norm(dl), rel.mdb[obs, e] * math.sqrt(1 - rk[k]), rel_tol=1e-3)
+    dx = np.linalg.solve(Jd.T @ Jd, Jd[k]) * rel.mdb[obs, e]
+    M = len(ext)
+    free = np.setdiff1d(np.arange(len(P)), control)
+    np.testing.assert_allclose((again.points - res.points)[free].ravel(), dx[6 * M:], rtol=0,
+                               atol=2e-3 * np.abs(dx).max())
+    assert math.isclose(np.sqrt(dx @ (Jd.T @ Jd) @ dx) / SIG_IMG, rel.external[obs, e],
+                        rel_tol=1e-4)
+    # uncontrolled observations: ∇0 infinite; default σ is σ̂0
+    assert np.all(np.isinf(rel.mdb[res.redundancy_numbers <= 1e-12]))
+    assert bd.reliability(res).sigma == res.sigma0
+
+
+def test_reliability_of_control_observations(mixed_control):
+    *_, sig, res = mixed_control
+    rel = bd.reliability(res)
+    assert rel.sigma == SIG_IMG
+    obs = np.isfinite(sig) & (sig > 0)
+    rc = res.control_redundancy_numbers[obs]
+    np.testing.assert_allclose(rel.control_mdb[obs], rel.delta0 * sig[obs] / np.sqrt(rc))
+    assert np.all(np.isnan(rel.control_mdb[~obs]))
+    with pytest.raises(ValueError, match="beta must be in"):
+        bd.reliability(res, beta=1.0)
+    with pytest.raises(TypeError, match="BundleResult"):
+        bd.reliability({"sigma0": 1.0})

@@ -187,3 +187,55 @@ def test_precision_explorer_updates():
     e.controls["n_control"].value = 2.0
     assert "datum not fixed" in e.html.value
     assert "photolib-explorer" in e.widget._dom_classes
+
+
+# -- reliability and control weighting ----------------------------------------------------------
+
+def test_reliability_report_from_the_redundancy_numbers():
+    rep = nbb.reliability_report()
+    rel, res = rep["reliability"], rep["result"]
+    d0 = stats.norm.ppf(1 - 0.001 / 2) + stats.norm.ppf(0.80)          # SciPy's quantiles
+    assert rel.delta0 == pytest.approx(d0, rel=1e-10) and rel.delta0 == pytest.approx(4.13, 1e-3)
+    rk = res.redundancy_numbers
+    ok = rk > 1e-12
+    np.testing.assert_allclose(rel.mdb[ok], d0 * 0.003 / np.sqrt(rk[ok]), rtol=1e-10)
+    m = rep["rays"] == 3
+    assert rep["table"][3]["mdb_y"] == pytest.approx(np.median(d0 * 3.0 / np.sqrt(rk[m, 1])))
+    fig = nbb.plot_reliability(rep)
+    assert fig.axes[0].get_yscale() == "log"
+
+
+def test_blunder_effect_readjusted_equals_linearised():
+    rep = nbb.blunder_effect(35, 0)
+    assert np.abs(rep["points_linear"]).max() > 0.1                   # a visible effect, m
+    np.testing.assert_allclose(rep["points_readjusted"], rep["points_linear"], rtol=0,
+                               atol=1e-3 * np.abs(rep["points_linear"]).max())
+    np.testing.assert_allclose(rep["exterior_readjusted"], rep["exterior_linear"], rtol=0,
+                               atol=2e-2 * np.abs(rep["exterior_linear"]).max())
+    assert rep["external_linear"] == pytest.approx(rep["external"], rel=1e-6)
+    assert rep["adjusted_shift"] == pytest.approx(rep["size"] * np.sqrt(1 - rep["r"]), rel=1e-4)
+
+
+def test_control_cases_counted_by_hand():
+    b = nbb.simulate_block()
+    n, M, P = 2 * len(b.xy), b.n_images, len(b.points)
+    cases = nbb.control_cases()
+    fixed = [18, 0, 18 + 6, 4 * 2 + 6]                 # fixed coordinates
+    observed = [0, 18, 0, 0]                           # coordinates observed with σ
+    for (name, case), nf, nc in zip(cases.items(), fixed, observed):
+        res = case["result"]
+        u = 6 * M + 3 * P - nf
+        assert (res.n_control_observations, res.n_unknowns, res.redundancy) == (nc, u,
+                                                                                n + nc - u), name
+        total = res.redundancy_numbers.sum() + res.control_redundancy_numbers.sum()
+        assert total == pytest.approx(res.redundancy, rel=1e-9)
+    gnss, fixed6 = cases["6 XYZ, σ = 2 cm (GNSS)"], cases["6 XYZ fixed"]
+    assert np.all(gnss["std_new"] > fixed6["std_new"])           # weaker control
+    assert 0 < gnss["std_control"] < 20.0                         # better than σ = 20 mm
+    assert np.all(cases["6 XYZ + 6 Z"]["std_new"][2] < fixed6["std_new"][2])
+
+
+def test_flat_block_has_the_same_images_on_a_plane():
+    hilly, flat = nbb.simulate_block(flat=False), nbb.simulate_block(flat=True)
+    np.testing.assert_array_equal(flat.exterior, hilly.exterior)
+    assert np.all(flat.points[:, 2] == 20.0) and np.ptp(hilly.points[:, 2]) > 10

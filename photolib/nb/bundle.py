@@ -30,13 +30,17 @@ __all__ = [
     "PrecisionExplorer",
     "adjust",
     "block_report",
+    "blunder_effect",
     "blunder_report",
+    "control_cases",
     "coarse_pattern",
     "control_order",
     "plot_block",
     "plot_ellipses",
+    "plot_reliability",
     "plot_sparsity",
     "precision_report",
+    "reliability_report",
     "plot_statistics",
     "simulate_block",
     "terrain",
@@ -79,7 +83,8 @@ class Block:
 
 
 @functools.lru_cache(maxsize=64)
-def _geometry(strips: int, per_strip: int, overlap: float, seed: int, A1: float = 0.0):
+def _geometry(strips: int, per_strip: int, overlap: float, seed: int, A1: float = 0.0,
+              flat: bool = False):
     rng = np.random.default_rng(seed)
     base = (1.0 - overlap) * _GROUND
     gap = (1.0 - _SIDE) * _GROUND
@@ -90,7 +95,7 @@ def _geometry(strips: int, per_strip: int, overlap: float, seed: int, A1: float 
     gx = np.arange(-half, (per_strip - 1) * base + half + 1e-9, _SPACING)
     gy = np.arange(-half, (strips - 1) * gap + half + 1e-9, _SPACING)
     XY = np.array([(x, y) for y in gy for x in gx])
-    P = np.column_stack([XY, terrain(XY[:, 0], XY[:, 1])])
+    P = np.column_stack([XY, np.full(len(XY), 20.0) if flat else terrain(XY[:, 0], XY[:, 1])])
     xy, ji, pi = [], [], []
     for j, e in enumerate(ext):
         p = pl.project(P, e[:3], pl.rotation_opk(*e[3:]), C_MM,
@@ -130,10 +135,13 @@ def control_order(points, n: int | None = None) -> np.ndarray:
 
 
 def simulate_block(strips: int = 2, per_strip: int = 3, overlap: float = 0.6,
-                   noise_um: float = 3.0, seed: int = 10, A1: float = 0.0) -> Block:
+                   noise_um: float = 3.0, seed: int = 10, A1: float = 0.0,
+                   flat: bool = False) -> Block:
     """The chapter's block with Gaussian image noise (µm) and start values.
 
-    ``A1`` (mm⁻²) puts radial distortion Δr' = A1·r'³ into the images (for self-calibration).
+    ``A1`` (mm⁻²) puts radial distortion Δr' = A1·r'³ into the images (for self-calibration);
+    ``flat`` puts all points on the plane Z = 20 m instead of the rolling terrain (same
+    images, same tilts).
 
     Start values: projection centres 5 m and angles 0.5° off, new points 3 m off (as from
     GNSS/IMU and a coarse terrain model). Noise is ``noise_um·1e-3·z`` with a fixed z.
@@ -143,7 +151,7 @@ def simulate_block(strips: int = 2, per_strip: int = 3, overlap: float = 0.6,
     (6, 194, 485)
     """
     xy, ji, pi, ext, P = _geometry(int(strips), int(per_strip), float(overlap), int(seed),
-                                   float(A1))
+                                   float(A1), bool(flat))
     rng = np.random.default_rng(seed + 1)
     z = rng.standard_normal(xy.shape)
     ext0 = ext + rng.normal(0.0, 1.0, ext.shape) * np.r_[5.0, 5.0, 5.0, np.radians([0.5] * 3)]
@@ -257,6 +265,167 @@ def blunder_report(blunder_um: float = 30.0, observation: int = 157, alpha: floa
             "image": int(block.image_index[k]), "found": found, "html": html, "block": block}
 
 
+def reliability_report(n_control: int = 6, alpha: float = 0.001, beta: float = 0.80) -> dict:
+    """Internal and external reliability of the chapter's block (σ = 3 µm a priori).
+
+    Returns ``result``, ``reliability`` (:class:`photolib.bundle.ReliabilityResult`),
+    ``rays`` (N,) the number of rays of each observation's point, ``table`` (rays → mean
+    r, median ∇0 in µm and median δ̄0, for x′ and y′), ``html``.
+
+    Examples
+    --------
+    >>> rep = reliability_report()
+    >>> round(rep["reliability"].delta0, 2), bool(rep["table"][4]["mdb_y"] < 30)
+    (4.13, True)
+    """
+    block, res = _clean(int(n_control))
+    rel = bd.reliability(res, alpha, beta, sigma=block.noise_um * 1e-3)
+    rays = np.bincount(block.point_index)[block.point_index]
+    rn = res.redundancy_numbers
+    table = {}
+    for k in (2, 3, 4):
+        m = rays == k if k < 4 else rays >= 4
+        table[k] = {"r_x": float(rn[m, 0].mean()), "r_y": float(rn[m, 1].mean()),
+                    "mdb_x": float(np.median(rel.mdb[m, 0]) * 1e3),
+                    "mdb_y": float(np.median(rel.mdb[m, 1]) * 1e3),
+                    "ext_x": float(np.median(rel.external[m, 0])),
+                    "ext_y": float(np.median(rel.external[m, 1]))}
+    rows = "".join(f"<tr><td>{k}{'+' if k == 4 else ''}</td><td>{t['r_x']:.2f} / {t['r_y']:.2f}"
+                   f"</td><td>{t['mdb_x']:.0f} / {t['mdb_y']:.0f}</td><td>{t['ext_x']:.1f} / "
+                   f"{t['ext_y']:.1f}</td></tr>" for k, t in table.items())
+    html = (f"<p>δ0 = {rel.delta0:.2f} (α = {alpha:g}, β = {beta:g}), σ = "
+            f"{rel.sigma * 1e3:.0f} µm</p><table><tr><th>rays</th><th>mean r x′ / y′</th>"
+            f"<th>median ∇0 x′ / y′ [µm]</th><th>median δ̄0 x′ / y′</th></tr>{rows}</table>")
+    return {"result": res, "reliability": rel, "rays": rays, "table": table, "html": html,
+            "block": block}
+
+
+def _design_matrix(block: Block, result, control):
+    """Dense A (2N, 6M + 3·new points) at ``result`` from :func:`photolib.collinearity_jacobian`
+    (rows x′, y′ interleaved; columns: images, then the new points in index order)."""
+    M = block.n_images
+    free = np.setdiff1d(np.arange(len(block.points)), control)
+    slot = np.full(len(block.points), -1)
+    slot[free] = np.arange(len(free))
+    A = np.zeros((2 * len(block.xy), 6 * M + 3 * len(free)))
+    for j in range(M):
+        rows = np.flatnonzero(block.image_index == j)
+        e = result.exterior[j]
+        J = pl.collinearity_jacobian(result.points[block.point_index[rows]], e[:3],
+                                     pl.rotation_opk(*e[3:]), result.c, angles=tuple(e[3:]))
+        for n, k in enumerate(rows):
+            A[2 * k:2 * k + 2, 6 * j:6 * j + 6] = J[n, :, :6]
+            s = slot[block.point_index[k]]
+            if s >= 0:
+                A[2 * k:2 * k + 2, 6 * M + 3 * s:6 * M + 3 * s + 3] = J[n, :, 6:]
+    return A, free
+
+
+def blunder_effect(observation: int = 35, coordinate: int = 0, n_control: int = 6,
+                   alpha: float = 0.001, beta: float = 0.80) -> dict:
+    """External reliability of one image coordinate: the effect of an undetected blunder of
+    the size ∇0 (its minimal detectable blunder) on the unknowns, two ways.
+
+    *Re-adjusted*: ∇0 added to the observation, the block adjusted again (from the clean
+    solution). *Linearised*: ``∇x = (AᵀA)⁻¹Aᵀe_k·∇0`` with the dense design matrix A built
+    from :func:`photolib.collinearity_jacobian` (not the library's reduced normal equations).
+
+    Returns ``size`` (∇0, mm), ``r`` (redundancy number), ``point``, ``points_readjusted``
+    and ``points_linear`` (P, 3) shifts in m (0 for control points), ``exterior_readjusted``,
+    ``exterior_linear`` (M, 6), ``external`` (δ̄0 from r), ``external_linear``
+    (√(∇xᵀN∇x)/σ), ``adjusted_shift`` (‖∇l̂‖, mm), ``html``.
+
+    Examples
+    --------
+    >>> rep = blunder_effect(35, 0)
+    >>> bool(np.allclose(rep["points_readjusted"], rep["points_linear"], atol=1e-3))
+    True
+    """
+    block, res = _clean(int(n_control))
+    rel = bd.reliability(res, alpha, beta, sigma=block.noise_um * 1e-3)
+    k = int(np.clip(round(observation), 0, len(block.xy) - 1))
+    e = int(coordinate)
+    size = float(rel.mdb[k, e])
+    if not np.isfinite(size):
+        raise ValueError(f"observation {k}, coordinate {e} has redundancy number 0: no blunder "
+                         "on it can be detected (∇0 = inf)")
+    again, control = adjust(block, n_control, blunder=(k, e, size),
+                            start=(res.exterior, res.points))
+    A, free = _design_matrix(block, res, control)
+    N = A.T @ A
+    dx = np.linalg.solve(N, A[2 * k + e]) * size
+    M = block.n_images
+    lin_pts = np.zeros_like(block.points)
+    lin_pts[free] = dx[6 * M:].reshape(-1, 3)
+    moved = block.xy.copy()
+    moved[k, e] += size
+    shift = float(np.linalg.norm(moved + again.residuals - (block.xy + res.residuals)))
+    dP = again.points - res.points
+    p = int(block.point_index[k])
+    html = (f"<p>∇0 = {size * 1e3:.1f} µm on {'x′y′'[2 * e:2 * e + 2]} of observation {k} "
+            f"(point {p}, r = {res.redundancy_numbers[k, e]:.3f})<br>"
+            f"shift of point {p}: re-adjusted {np.round(dP[p] * 1e3, 1).tolist()} mm, "
+            f"linearised {np.round(lin_pts[p] * 1e3, 1).tolist()} mm<br>"
+            f"δ̄0 = {rel.external[k, e]:.2f} (formula), "
+            f"{np.sqrt(dx @ N @ dx) / rel.sigma:.2f} (√(∇xᵀN∇x)/σ)</p>")
+    return {"size": size, "r": float(res.redundancy_numbers[k, e]), "point": p,
+            "points_readjusted": dP, "points_linear": lin_pts,
+            "exterior_readjusted": again.exterior - res.exterior,
+            "exterior_linear": dx[:6 * M].reshape(M, 6), "external": float(rel.external[k, e]),
+            "external_linear": float(np.sqrt(dx @ N @ dx) / rel.sigma),
+            "adjusted_shift": shift, "html": html}
+
+
+@functools.lru_cache(maxsize=2)
+def control_cases(sigma_gnss: float = 0.02) -> dict:
+    """The chapter's block with four kinds of control (σ image = 3 µm a priori):
+
+    * ``'6 XYZ fixed'``: six full control points, error-free (as before);
+    * ``'6 XYZ, σ = 2 cm (GNSS)'``: the same six observed with σ = ``sigma_gnss`` m (their
+      given coordinates carry seeded errors of that size);
+    * ``'6 XYZ + 6 Z'``: the six fixed plus six height control points (Höhenpasspunkte);
+    * ``'4 XY + 6 Z'``: plan control (Lagepasspunkte) at the four corners, heights at six
+      other points.
+
+    Returns ``{name: {'result', 'control_sigma', 'new' (indices of the points without any
+    control), 'std_new' (mean σX, σY, σZ of them, mm, scaled to σ = 3 µm), 'std_control'
+    (mean σ of the control coordinates that are not fixed, mm; NaN if none)}}``.
+
+    Examples
+    --------
+    >>> [c["result"].redundancy for c in control_cases().values()]
+    [370, 370, 376, 366]
+    """
+    block = simulate_block()
+    P, sig_img = len(block.points), block.noise_um * 1e-3
+    order = control_order(block.points, 12)
+    rng = np.random.default_rng(42)
+    cases = {}
+    specs = {"6 XYZ fixed": [(order[:6], [0, 1, 2], 0.0)],
+             f"6 XYZ, σ = {sigma_gnss * 100:g} cm (GNSS)": [(order[:6], [0, 1, 2], sigma_gnss)],
+             "6 XYZ + 6 Z": [(order[:6], [0, 1, 2], 0.0), (order[6:], [2], 0.0)],
+             "4 XY + 6 Z": [(order[:4], [0, 1], 0.0), (order[4:10], [2], 0.0)]}
+    for name, spec in specs.items():
+        sig = np.full((P, 3), np.inf)
+        P0 = block.points_start.copy()
+        for pts, coords, s in spec:
+            sel = np.ix_(pts, coords)
+            sig[sel] = s
+            P0[sel] = block.points[sel] + (rng.normal(0.0, s, (len(pts), len(coords)))
+                                           if s > 0 else 0.0)
+        res = bd.bundle_adjustment(block.xy, block.image_index, block.point_index,
+                                   block.exterior_start, P0, C_MM, control_sigma=sig,
+                                   sigma_image=sig_img)
+        scale = sig_img / res.sigma0
+        new = np.flatnonzero(np.all(np.isinf(sig), axis=1))
+        loose = (sig > 0) & np.isfinite(sig)
+        std = res.point_std * scale * 1e3
+        cases[name] = {"result": res, "control_sigma": sig, "new": new,
+                       "std_new": std[new].mean(axis=0),
+                       "std_control": float(std[loose].mean()) if loose.any() else float("nan")}
+    return cases
+
+
 # -- static figures -------------------------------------------------------------------------------
 
 def _footprint(e):
@@ -311,6 +480,29 @@ def plot_statistics(statistic, critical, flagged=(), title="standardised residua
     ax.set(xlabel="observation coordinate (x′, y′ interleaved)", ylabel="|statistic|",
            title=title)
     ax.legend(fontsize=8)
+    return fig
+
+
+def plot_reliability(report, title="internal reliability: minimal detectable blunder ∇0"):
+    """∇0 per image coordinate (x′, y′ interleaved) of :func:`reliability_report`, log scale,
+    coloured by the number of rays of the point; ∞ (r = 0) drawn at the top."""
+    import matplotlib.pyplot as plt
+
+    rel, rays = report["reliability"], report["rays"]
+    mdb = rel.mdb.ravel() * 1e3
+    ray2 = np.repeat(rays, 2)
+    top = float(np.max(mdb[np.isfinite(mdb)])) * 1.5
+    fig, ax = plt.subplots(figsize=(6.4, 2.8))
+    idx = np.arange(len(mdb))
+    for k, colour in ((2, "#d62728"), (3, "#ff7f0e"), (4, "#1f77b4")):
+        m = ray2 == k if k < 4 else ray2 >= 4
+        ax.plot(idx[m], np.where(np.isfinite(mdb[m]), mdb[m], top), ".", color=colour, ms=3,
+                label=f"{k}{'+' if k == 4 else ''} rays")
+    ax.axhline(rel.delta0 * rel.sigma * 1e3, color="0.3", lw=1, ls="--",
+               label=f"δ0·σ = {rel.delta0 * rel.sigma * 1e3:.1f} µm (r = 1)")
+    ax.set(yscale="log", xlabel="observation coordinate (x′, y′ interleaved)",
+           ylabel="∇0 [µm]", title=title)
+    ax.legend(fontsize=7, ncol=4, loc="upper right")
     return fig
 
 
