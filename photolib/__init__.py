@@ -90,11 +90,13 @@ _EXPORTS = {
     "ortho_pixel_positions": "orthophoto", "relief_displacement": "orthophoto",
     "true_orthophoto": "orthophoto", "visibility": "orthophoto",
     "load_glossary": "glossary",
-    # chapter 10: bundle adjustment (reduced normal equations, datum, σ0, data snooping)
+    # chapter 10: bundle adjustment (reduced normal equations, datum, σ0, data snooping,
+    # reliability)
     "BundleResult": "bundle", "DatumError": "bundle", "IterationRecord": "bundle",
     "SnoopingResult": "bundle", "bundle_adjustment": "bundle", "critical_value": "bundle",
     "data_snooping": "bundle", "inner_constraints": "bundle",
     "normal_matrix_pattern": "bundle", "student_t_cdf": "bundle",
+    "ReliabilityResult": "bundle", "non_centrality": "bundle", "reliability": "bundle",
 }
 
 __all__ = sorted(_EXPORTS)

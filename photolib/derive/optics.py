@@ -284,9 +284,15 @@ def pinhole_blur(d=d_pin):
 
 
 def pinhole_optimum():
-    """Diameter minimising :func:`pinhole_blur`: ``d* = √(2.44 λ c)``."""
-    sol = sp.solve(sp.diff(pinhole_blur(), d_pin), d_pin)
-    return sol[0]
+    """Diameter minimising :func:`pinhole_blur`: ``d* = √(2.44 λ c)``.
+
+    The stationary point: the numerator of ``d(blur)/dd`` is a quadratic in d with one
+    positive root. (``sp.solve`` gives the same root, but its first call in a process
+    imports ``sympy.physics.units`` for its simplification: a third of a second.)
+    """
+    num = sp.numer(sp.together(sp.diff(pinhole_blur(), d_pin)))
+    (root,) = (r for r in sp.roots(sp.Poly(num, d_pin)) if r.is_positive)
+    return root
 
 
 # -- chromatic aberration through a stop, camera constant at a finite distance -----------------

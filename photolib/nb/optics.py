@@ -221,6 +221,31 @@ def airy_report(wavelength_nm: float = 550.0, k: float = 8.0, pixel_um: float = 
             "pixel_psf": pixel_psf, "html": html}
 
 
+_SUPERSCRIPTS = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+
+
+def _decade_label(value, _pos=None) -> str:
+    """Tick label ``10ⁿ`` of a decade as plain text (Unicode superscripts), else ``""``.
+
+    It reads as matplotlib's default log labels; those are mathtext (``$10^{n}$``), and
+    laying them out cost a log–log figure some 0.15 s of its 0.25 s draw.
+    """
+    if not value > 0:
+        return ""
+    n = np.log10(value)
+    if abs(n - round(n)) > 1e-9:
+        return ""
+    return "10" + str(int(round(n))).translate(_SUPERSCRIPTS)
+
+
+def _decade_labels(*axes):
+    """Label the major ticks of the given log-scaled axes (``ax.xaxis``, …) 10ⁿ, as text."""
+    import matplotlib.ticker as mticker
+
+    for axis in axes:
+        axis.set_major_formatter(mticker.FuncFormatter(_decade_label))
+
+
 def _finished(fig):
     """``fig``, complete, marked as not stale so that it is rendered once, not twice.
 
@@ -357,6 +382,7 @@ def plot_stereo_acuity(base_mm: float = 65.0, acuity_arcsec=(5.0, 10.0, 30.0)):
            title=f"stereoscopic depth acuity, eye base b = {base_mm:g} mm")
     # decades only: the minor ticks of a log–log plot over seven decades cost a third of its draw
     ax.minorticks_off()
+    _decade_labels(ax.xaxis, ax.yaxis)
     ax.legend(fontsize=7)
     return _finished(fig)
 
@@ -429,6 +455,7 @@ class DepthOfFieldExplorer(Explorer):
         self.live.figure.subplots_adjust(0.12, 0.17, 0.98, 0.9)
         ax.set(xscale="log", xlim=(0.3, 100), ylim=(0, 150), xlabel="object distance [m]",
                ylabel="blur u' [µm]", title=f"depth of field / Schärfentiefe, f = {F_MM:g} mm")
+        _decade_labels(ax.xaxis)
         self._band = self.live.animate(ax.axvspan(1.0, 2.0, color="#2ca02c", alpha=0.2))
         (self._curve,) = ax.plot([], [], color="#1f77b4")
         (self._limit,) = ax.plot([], [], "--", color="#d62728", lw=1)

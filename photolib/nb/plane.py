@@ -69,6 +69,16 @@ def square_grid(n: int = 9, samples: int = 21, half: float = 1.0):
     return lines + [np.column_stack([t, np.full(samples, v)]) for v in np.linspace(-half, half, n)]
 
 
+def _joined(lines) -> np.ndarray:
+    """Polylines (each (k, 2)) as one NaN-separated (K, 2) array: one artist, not one each.
+
+    >>> _joined([np.zeros((2, 2)), np.ones((1, 2))]).tolist()
+    [[0.0, 0.0], [0.0, 0.0], [nan, nan], [1.0, 1.0], [nan, nan]]
+    """
+    gap = np.full((1, 2), np.nan)
+    return np.concatenate([part for line in lines for part in (np.asarray(line, float), gap)])
+
+
 def classify(a1, a2, b1, b2, c1, c2, tol: float = 1e-12) -> str:
     """Smallest family of ``X = (a0 + a1x + a2y)/(1 + c1x + c2y)``, … that holds the map.
 
@@ -162,8 +172,7 @@ class ProjectiveExplorer(Explorer):
         ax = self.live.figure.add_subplot()
         self.live.figure.subplots_adjust(0.12, 0.12, 0.97, 0.92)
         grid = square_grid()
-        for line in grid:
-            ax.plot(*line.T, color="0.85", lw=0.8)
+        ax.plot(*_joined(grid).T, color="0.85", lw=0.8)
         self._lines = [self.live.animate(ax.plot([], [], color="#1f77b4", lw=1)[0])
                        for _ in grid]
         (self._horizon,) = ax.plot([], [], "--", color="#d62728", lw=1)
@@ -397,9 +406,9 @@ def plot_transformed_grids(models, n: int = 9):
 
     fig, axes = plt.subplots(1, len(models), figsize=(2.6 * len(models), 2.8))
     for ax, (name, t) in zip(np.atleast_1d(axes), models):
-        for line in square_grid(n):
-            ax.plot(*line.T, color="0.85", lw=0.8)
-            ax.plot(*t(line).T, color="#1f77b4", lw=1)
+        grid = square_grid(n)
+        ax.plot(*_joined(grid).T, color="0.85", lw=0.8)
+        ax.plot(*_joined([t(line) for line in grid]).T, color="#1f77b4", lw=1)
         ax.set(aspect="equal", title=name, xticks=[], yticks=[])
     fig.tight_layout()
     return _finished(fig)
