@@ -137,3 +137,29 @@ def test_digitised_house_is_opencvs_triangulation_of_the_measurements():
     np.testing.assert_allclose(exact["measured_edges"], exact["edges"], atol=1e-9)
     fig = ns.plot_digitised(d)
     assert len(fig.axes) == 2 and len(fig.axes[0].lines) == 2
+
+
+def test_digitised_house_prediction_explains_the_measured_rms():
+    # per-corner σ by Monte Carlo over many noise draws, independent of the SymPy propagation
+    d = ns.digitise_house(B=20.0, h=100.0, noise_um=3.0)
+    errs = np.array([ns.digitise_house(B=20.0, h=100.0, noise_um=3.0, seed=k)["error_mm"]
+                     for k in range(3000)])
+    mc_sigma = errs.std(axis=0)                                       # (P, 3), mm
+    np.testing.assert_allclose(d["sigma_corners"], mc_sigma, rtol=0.06)
+    np.testing.assert_allclose(d["sigma_rms"], np.sqrt(np.mean(mc_sigma**2, axis=0)), rtol=0.03)
+    # the house stands below the base: X is better than m·σ_x' (6.0 mm), about m·σ/√2
+    assert d["sigma_rms"][0] < 0.8 * d["sigma"][0]
+    rms = np.sqrt(np.mean(d["error_mm"] ** 2, axis=0))
+    assert abs(rms[0] - d["sigma_rms"][0]) < abs(rms[0] - d["sigma"][0])
+
+
+def test_artificial_stereo_rays_meet_at_the_fused_point():
+    e, d, s = 65.0, 250.0, 40.0
+    fig = ns.plot_artificial_stereo(e, d, s)
+    # rays eye → homologous image point, intersected by linear algebra
+    t = np.linalg.solve(np.column_stack([[-s / 2 + e / 2, d], [s / 2 - e / 2, d]]),
+                        np.array([e, 0.0]))
+    P = np.array([-e / 2, 0.0]) + t[0] * np.array([-s / 2 + e / 2, d])
+    np.testing.assert_allclose(fig.fused, P, atol=1e-9)
+    with pytest.raises(ValueError):
+        ns.plot_artificial_stereo(e, d, e)                # parallel rays: no fused point

@@ -491,3 +491,66 @@ def test_tiny_base_and_tiny_parallax():
         normal_case_points([5e-324, 0.0], [0.0, 0.0], 100.0, 20.0)
     with pytest.raises(ValueError, match="px must be numeric, got 'a'"):
         height_from_parallax("a", 100.0, 20.0)
+
+
+# -- σ_X of the normal case: independent parallax versus two measured images --------------------
+
+def _mc_sigma_X(x1, x2, B, s, n=400_000, seed=21, parallax_bar=False):
+    """Monte Carlo of X = B·x'1/px': px' = x'1 − x'2 from both images, or measured on its own."""
+    rng = np.random.default_rng(seed)
+    a = x1 + s * rng.standard_normal(n)
+    if parallax_bar:                                # px' observed independently of x'1
+        px = (x1 - x2) + np.sqrt(2) * s * rng.standard_normal(n)
+    else:                                           # x'2 measured, px' = x'1 − x'2
+        px = a - (x2 + s * rng.standard_normal(n))
+    return np.std(B * a / px)
+
+
+def test_sigma_X_two_images_example_below_the_middle_of_the_base():
+    # B = 20 m, h = 100 m, c = 50 mm, σ = 3 µm, the point below the middle of the base
+    B, h, c, s = 20.0, 100.0, 50.0, 3e-3
+    x1, x2 = c * (B / 2) / h, c * (B / 2 - B) / h                    # ±5 mm
+    mc = _mc_sigma_X(x1, x2, B, s) * 1e3                              # mm
+    assert mc == pytest.approx(4.243, rel=0.01)
+    m = h / c
+    assert mc == pytest.approx(m * s * 1e3 / np.sqrt(2), rel=0.01)    # m·σ/√2, not m·σ
+    f = sp.lambdify((ds.x1, ds.x2, ds.B, ds.s_x), ds.sigma_X_two_images())
+    assert f(x1, x2, B, s) * 1e3 == pytest.approx(mc, rel=0.01)
+    # the independent-parallax formula overestimates this case: 7.35 mm
+    full = sp.lambdify((ds.x1, ds.px, ds.B, ds.s_x, ds.s_px), ds.sigma_X_full())
+    assert full(x1, x1 - x2, B, s, np.sqrt(2) * s) * 1e3 == pytest.approx(7.348, rel=1e-3)
+
+
+@pytest.mark.parametrize("X", [0.0, 4.0, 10.0, 20.0, 27.0, -6.0])
+def test_sigma_X_two_images_by_monte_carlo(X):
+    B, h, c, s = 20.0, 100.0, 50.0, 3e-3
+    x1, x2 = c * X / h, c * (X - B) / h
+    f = sp.lambdify((ds.x1, ds.x2, ds.B, ds.s_x), ds.sigma_X_two_images())
+    assert f(x1, x2, B, s) == pytest.approx(_mc_sigma_X(x1, x2, B, s), rel=0.01)
+    # m·σ_x' is exact below a projection centre (x'1·x'2 = 0) and only there
+    exact_m = np.isclose(f(x1, x2, B, s), (h / c) * s, rtol=1e-9)
+    assert exact_m == (X in (0.0, B))
+
+
+@pytest.mark.parametrize("X", [0.0, 10.0, 27.0])
+def test_sigma_X_full_holds_for_an_independently_measured_parallax(X):
+    B, h, c, s = 20.0, 100.0, 50.0, 3e-3
+    x1, x2 = c * X / h, c * (X - B) / h
+    full = sp.lambdify((ds.x1, ds.px, ds.B, ds.s_x, ds.s_px), ds.sigma_X_full())
+    mc = _mc_sigma_X(x1, x2, B, s, parallax_bar=True)
+    assert full(x1, x1 - x2, B, s, np.sqrt(2) * s) == pytest.approx(mc, rel=0.01)
+
+
+def test_covariance_two_images_by_monte_carlo():
+    B, c, s = 20.0, 50.0, 3e-3
+    l0 = np.array([7.0, 3.0, -3.0])                                   # x'1, y'1, x'2 in mm
+    rng = np.random.default_rng(5)
+    n = 400_000
+    obs = l0 + s * rng.standard_normal((n, 3))
+    px = obs[:, 0] - obs[:, 2]
+    pts = np.column_stack([B * obs[:, 0] / px, B * obs[:, 1] / px, -c * B / px])
+    C_mc = np.cov(pts.T)
+    C = sp.lambdify((ds.x1, ds.y1, ds.x2, ds.B, ds.c, ds.s_x), ds.covariance_two_images())
+    C_sym = np.array(C(*l0, B, c, s), float)
+    scale = np.sqrt(np.outer(np.diag(C_sym), np.diag(C_sym)))
+    np.testing.assert_allclose(C_mc / scale, C_sym / scale, atol=0.01)

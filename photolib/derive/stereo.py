@@ -6,8 +6,9 @@ origin, camera 2 at ``(B, 0, 0)``. The collinearity equations of
 ``px' = x'1 − x'2`` is ``−c·B/Z`` and so ``Z = −c·B/px'`` (c > 0, points in front have
 Z < 0). Error propagation of ``Z(px')`` and of ``X = m·x'`` gives the accuracy formulas.
 
-Chapter 09 adds the object point from the parallax (:func:`object_from_parallax`), the full
-σ_X (:func:`sigma_X_full`), the coplanarity condition and where ``E = R1ᵀ·[b]×·R2`` comes
+Chapter 09 adds the object point from the parallax (:func:`object_from_parallax`), σ_X for an
+independently measured parallax (:func:`sigma_X_full`) and for two measured image coordinates
+(:func:`covariance_two_images`, :func:`sigma_X_two_images`), the coplanarity condition and where ``E = R1ᵀ·[b]×·R2`` comes
 from (:func:`coplanarity_identity`, :func:`coplanarity_normal_case`) and the unknown counts
 5 + 7 = 12 of relative and absolute orientation (:func:`orientation_unknowns`).
 
@@ -102,9 +103,62 @@ def sigma_X_full():
 
     Propagation gives ``(B/px')²·s_x² + (B·x'1/px'²)²·s_px²``; at ``x'1 = 0`` (the nadir)
     it is ``m·s_x`` (``m = h/c = B/px'``), the leading term used by Luhmann.
+
+    Condition: the parallax px' is an observation of its own, measured independently of
+    x'1 — with a parallax bar (Parallaxenschraube, Stereomikrometer) or the floating mark of
+    a stereo plotter. When x'1 and x'2 are both measured in the two images, px' = x'1 − x'2
+    is correlated with x'1 and this formula is wrong (too large below the base); use
+    :func:`sigma_X_two_images` then.
     """
     Xf = B * x1 / px
     return sp.sqrt(sp.diff(Xf, x1) ** 2 * s_x**2 + sp.diff(Xf, px) ** 2 * s_px**2)
+
+
+def object_from_two_images():
+    """``(X, Y, Z)`` of the normal case as functions of the measured x'1, y'1 and x'2.
+
+    :func:`object_from_parallax` with the parallax written out, ``px' = x'1 − x'2``: the
+    observations of a point measured in both images (reduced to the principal point).
+
+    >>> object_from_two_images()[2]
+    -B*c/(x1 - x2)
+    """
+    return tuple(e.subs(px, x1 - x2) for e in object_from_parallax())
+
+
+def covariance_two_images():
+    """Covariance of ``(X, Y, Z)`` for x'1, y'1, x'2 measured independently with σ ``s_x``.
+
+    Law of error propagation from the image observations ``l = (x'1, y'1, x'2)``:
+    ``Σ_XYZ = J·(s_x²·I)·Jᵀ`` with ``J = ∂(X, Y, Z)/∂l``. Because px' = x'1 − x'2 shares x'1
+    with ``X = B·x'1/px'``, the two error contributions of x'1 partly cancel.
+
+    >>> C = covariance_two_images()
+    >>> sp.factor(C[2, 2])
+    2*B**2*c**2*s_x**2/(x1 - x2)**4
+    """
+    obs = sp.Matrix([x1, y1, x2])
+    J = sp.Matrix(object_from_two_images()).jacobian(obs)
+    return (J * (s_x**2 * sp.eye(3)) * J.T).applyfunc(sp.factor)
+
+
+def sigma_X_two_images():
+    """σ_X of ``X = B·x'1/(x'1 − x'2)`` for x'1, x'2 measured independently with σ ``s_x``.
+
+    From :func:`covariance_two_images`: ``σ_X = B·s_x·√(x'1² + x'2²)/px'²`` with
+    ``px' = x'1 − x'2``, i.e. ``m·s_x·√(x'1² + x'2²)/px'`` (m = B/px' = h/c). It equals
+    ``m·s_x`` exactly where ``x'1·x'2 = 0``: a point vertically below one of the projection
+    centres (the nadir of image 1 or 2). Below the middle of the base (x'2 = −x'1) it is
+    ``m·s_x/√2``; outside the base it grows beyond ``m·s_x``.
+
+    >>> e = sigma_X_two_images()
+    >>> sp.simplify(e - B*s_x*sp.sqrt(x1**2 + x2**2)/(x1 - x2)**2)
+    0
+    >>> a = sp.symbols("a", positive=True)           # below the middle: x'1 = a, x'2 = −a
+    >>> sp.simplify(e.subs({x1: a, x2: -a}) - (B/(2*a))*s_x/sp.sqrt(2))
+    0
+    """
+    return sp.sqrt(sp.factor(covariance_two_images()[0, 0]))
 
 
 #: image vectors x*_1, x*_2 (components) and base components for the coplanarity derivation

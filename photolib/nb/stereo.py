@@ -12,6 +12,8 @@ absolute orientation sections.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 import photolib as pl
@@ -200,13 +202,19 @@ def digitise_house(B: float = 20.0, h: float = 100.0, noise_um: float = 3.0, see
         ``edges`` (E, 2, 3) true edges; ``corners`` (P, 3) true corners; ``xy1``, ``xy2``
         (P, 2) measured image points, mm; ``measured`` (P, 3) digitised corners, m;
         ``measured_edges`` (E, 2, 3); ``error_mm`` (P, 3) measured − true; ``sigma`` (σ_XY,
-        σ_Z) in mm predicted by :func:`photolib.normal_case_accuracy`.
+        σ_Z) in mm of :func:`photolib.normal_case_accuracy` (σ_XY = m·σ_x', exact only below
+        a projection centre); ``sigma_corners`` (P, 3) σ_X, σ_Y, σ_Z in mm of each corner by
+        propagation from the measured x'1, y'1, x'2
+        (:func:`photolib.derive.stereo.covariance_two_images`); ``sigma_rms`` (3,) their RMS
+        over the corners, the prediction of the RMS error.
 
     Examples
     --------
     >>> d = digitise_house(noise_um=0.0)
     >>> float(np.abs(d["error_mm"]).max()) < 1e-9
     True
+    >>> np.round(digitise_house()["sigma_rms"], 1).tolist()  # mm; X below the base: < m·σ
+    [4.6, 6.0, 39.2]
     """
     edges = house_edges(10.0) + np.array([B / 2, 0.0, -h])
     corners, index = np.unique(edges.reshape(-1, 3), axis=0, return_inverse=True)
@@ -216,9 +224,42 @@ def digitise_house(B: float = 20.0, h: float = 100.0, noise_um: float = 3.0, see
     measured = pl.normal_case_points(xy1, xy2, C_MM, B)
     s = max(noise_um, 1e-9) * 1e-3
     acc = pl.normal_case_accuracy(h * 1e3, B * 1e3, C_MM, np.sqrt(2) * s, s)
+    true1 = pl.project(corners, np.zeros(3), np.eye(3), C_MM)
+    true2 = pl.project(corners, [B, 0.0, 0.0], np.eye(3), C_MM)
+    per_corner = predicted_sigma_two_images(true1, true2, C_MM, B, s) * 1e3
     return {"edges": edges, "corners": corners, "xy1": xy1, "xy2": xy2, "measured": measured,
             "measured_edges": measured[index.reshape(-1, 2)],
-            "error_mm": (measured - corners) * 1e3, "sigma": (acc.sigma_XY, acc.sigma_Z)}
+            "error_mm": (measured - corners) * 1e3, "sigma": (acc.sigma_XY, acc.sigma_Z),
+            "sigma_corners": per_corner,
+            "sigma_rms": np.sqrt(np.mean(per_corner**2, axis=0))}
+
+
+@functools.lru_cache(maxsize=1)
+def _sigma_two_images_function():
+    """The lambdified σ_X, σ_Y, σ_Z of :func:`photolib.derive.stereo.covariance_two_images`."""
+    import sympy as sp
+
+    from photolib.derive import stereo as ds
+    cov = ds.covariance_two_images()
+    return sp.lambdify((ds.x1, ds.y1, ds.x2, ds.B, ds.c, ds.s_x),
+                       [sp.sqrt(cov[i, i]) for i in range(3)], "numpy")
+
+
+def predicted_sigma_two_images(xy1, xy2, c: float, B: float, sigma: float) -> np.ndarray:
+    """σ_X, σ_Y, σ_Z of normal-case points whose x'1, y'1, x'2 are measured with σ ``sigma``.
+
+    The diagonal of :func:`photolib.derive.stereo.covariance_two_images`, lambdified; image
+    coordinates reduced to the principal point, ``sigma`` and ``c`` in the image unit, B and
+    the result in the object unit. Shape (N, 3).
+
+    >>> s = predicted_sigma_two_images([[5.0, 0.0]], [[-5.0, 0.0]], 50.0, 20.0, 0.003)
+    >>> np.round(s * 1e3, 3).tolist()          # mm: m·σ/√2, m·σ, √2·(h/B)·m·σ
+    [[4.243, 6.0, 42.426]]
+    """
+    f = _sigma_two_images_function()
+    a, b = np.atleast_2d(np.asarray(xy1, float)), np.atleast_2d(np.asarray(xy2, float))
+    out = f(a[:, 0], a[:, 1], b[:, 0], float(B), float(c), float(sigma))
+    return np.column_stack([np.broadcast_to(np.asarray(v, float), (len(a),)) for v in out])
 
 
 # -- static figures -------------------------------------------------------------------------------
@@ -359,3 +400,53 @@ class EpipolarExplorer(Explorer):
         self._same.set_data([x1], [y1])
         return rep["html"] + ("<p>red dots: the ray of the point at 12 … 36 m; "
                               "+: the same x', y' as in image 1</p>")
+
+
+def plot_artificial_stereo(eye_base: float = 65.0, viewing: float = 250.0,
+                           separation: float = 40.0, title="artificial stereoscopic viewing / "
+                           "künstliches stereoskopisches Sehen (plan view)"):
+    """Two images, one per eye, whose homologous rays meet in a fused point (Raumbild).
+
+    Plan view (mm): the eyes at ``(±eye_base/2, 0)``, the two images side by side in the plane
+    ``y = viewing``, each seen by one eye only. The homologous image points (homologe
+    Bildpunkte) are ``separation`` apart; the rays from the eyes through them (homologe
+    Strahlen) meet at the fused point at the distance
+    ``viewing·eye_base/(eye_base − separation)`` (similar triangles), behind the image plane
+    for ``0 < separation < eye_base`` — the observer sees the point in space. A smaller
+    separation (a larger parallax) brings the point closer.
+
+    >>> fig = plot_artificial_stereo()
+    >>> len(fig.axes), round(fig.fused[1], 1)
+    (1, 650.0)
+    """
+    import matplotlib.pyplot as plt
+
+    e, d = float(eye_base), float(viewing)
+    if not 0.0 < separation < e:
+        raise ValueError(f"separation must lie in (0, eye_base) = (0, {e}), got {separation}")
+    xl, xr = -separation / 2, separation / 2                       # homologous image points
+    dist = d * e / (e - separation)                                # where the rays meet
+    fused = (0.0, dist)
+    fig, ax = plt.subplots(figsize=(5.6, 3.6))
+    for x_eye, x_img, colour, name in ((-e / 2, xl, "#1f77b4", "left"),
+                                       (e / 2, xr, "#d62728", "right")):
+        centre = x_eye                                             # each image in front of its eye
+        ax.plot([centre - 26, centre + 26], [d, d], color=colour, lw=4, alpha=0.5)
+        ax.text(centre, d + 14, f"{name} image\n({name} eye only)", ha="center",
+                va="bottom", fontsize=7, color=colour)
+        ax.plot([x_eye], [0], "o", color=colour, ms=7)
+        ax.text(x_eye, -12, f"{name} eye", ha="center", va="top", fontsize=8)
+        ax.plot([x_eye, x_img], [0, d], color=colour, lw=1.2)
+        ax.plot([x_img, 0.0], [d, dist], "--", color=colour, lw=1.0)
+        ax.plot([x_img], [d], "s", color=colour, ms=4)
+    ax.plot([fused[0]], [fused[1]], "*", color="k", ms=12)
+    ax.annotate("homologous point P\n(fused: Raumbild)", fused, xytext=(10, dist - 60),
+                fontsize=8)
+    ax.text(-e / 2 - 8, d * 0.3, "homologous rays\n(homologe Strahlen)", fontsize=8,
+            ha="right")
+    ax.set(xlabel="x [mm]", ylabel="distance from the eyes [mm]", title=title,
+           xlim=(-e - 70, e + 70), ylim=(-60, dist + 40))
+    ax.title.set_fontsize(9)
+    fig.tight_layout()
+    fig.fused = fused
+    return fig

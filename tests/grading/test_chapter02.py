@@ -10,6 +10,7 @@ finding on the light cone, SciPy's Bessel zeros, Fermat's principle minimised wi
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -160,7 +161,7 @@ def test_dof_limit_symbols_are_positive_quantities():
 def test_choice_reference_points_at_the_right_statement(sid):
     ex = BY_ID["opt.stop-down"]
     p = parameters_for(ex, sid)
-    assert f"({p['correct']}) the depth of field grows and the Airy disk becomes twice" \
+    assert f"({ex.reference(p)}) the depth of field grows and the Airy disk becomes twice" \
         in p["options"]
     # the physics behind it: twice k doubles the Airy radius and lengthens the depth of field
     import photolib.optics as po
@@ -168,3 +169,21 @@ def test_choice_reference_points_at_the_right_statement(sid):
     d1 = po.depth_of_field(3000.0, 50.0, p["k"], 0.03)
     d2 = po.depth_of_field(3000.0, 50.0, 2 * p["k"], 0.03)
     assert d2.depth > d1.depth
+
+
+def test_stop_down_variant_does_not_carry_the_answer():
+    # the parameters a student sees are the f-numbers and the printed options only: the
+    # letters of the right and the wrong options are read from the text
+    ex = BY_ID["opt.stop-down"]
+    letters = set()
+    for sid in STUDENTS:
+        p = parameters_for(ex, sid)
+        assert set(p) == {"k", "k2", "options"}
+        parts = re.split(r"(?:^|; )\(([a-d])\) ", p["options"])[1:]   # letter, text, …
+        printed = dict(zip(parts[::2], parts[1::2]))
+        assert sorted(printed) == list("abcd")
+        right = next(k for k, text in printed.items()
+                     if text.startswith("the depth of field grows") and "twice" in text)
+        assert ex.reference(p) == right
+        letters.add(right)
+    assert len(letters) > 1                       # the correct letter moves between students

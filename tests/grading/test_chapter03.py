@@ -116,3 +116,44 @@ def test_gsd_function_agrees_with_the_library(sid):
         assert math.isclose(f(H), 100 * pl.ground_sampling_distance(p["pixel_um"] / 1000,
                                                                     p["c_mm"], H), rel_tol=1e-12)
 
+
+
+# -- dig.snr-db: the quantisation noise must count -------------------------------------------------
+
+def _snr_by_hand(p, quant=True):
+    # S/σ with σ² = S (Poisson) + σ_r² + K²/12, written out again from the statement
+    var = p["signal"] + p["read_noise"] ** 2 + (p["gain"] ** 2 / 12 if quant else 0)
+    return 20 * math.log10(p["signal"] / math.sqrt(var))
+
+
+def test_snr_without_quantisation_noise_is_wrong_for_every_id():
+    ex = BY_ID["dig.snr-db"]
+    rtol, atol = ex.tolerances(parameters_for(ex, "s0"))
+    assert atol <= 1e-3 and rtol == 0.0
+    for i in range(2000):
+        p = parameters_for(ex, f"s{5000000 + i}")
+        full, without = _snr_by_hand(p), _snr_by_hand(p, quant=False)
+        assert abs(ex.reference(p) - full) <= 1e-9
+        assert abs(without - full) > 100 * atol, (p, without - full)
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_snr_missing_quantisation_noise_gets_its_hint(sid):
+    ex = BY_ID["dig.snr-db"]
+    p = parameters_for(ex, sid)
+    verdict = _judge(ex, sid, _snr_by_hand(p, quant=False))
+    assert verdict.status == "wrong" and verdict.mistake == "quant-noise"
+    assert "K²/12" in verdict.message
+
+
+@pytest.mark.parametrize("sid", STUDENTS[:3])
+def test_snr_tolerance_allows_rounding_and_float32(sid):
+    ex = BY_ID["dig.snr-db"]
+    p = parameters_for(ex, sid)
+    exact = _snr_by_hand(p)
+    assert _judge(ex, sid, round(exact, 4)).status == "correct"
+    f32 = {k: np.float32(v) for k, v in p.items()}
+    snr32 = np.float32(20) * np.log10(f32["signal"] / np.sqrt(
+        f32["signal"] + f32["read_noise"] ** 2 + f32["gain"] ** 2 / np.float32(12)))
+    assert _judge(ex, sid, float(snr32)).status == "correct"
+    assert _judge(ex, sid, exact + 5 * ex.atol).status == "wrong"

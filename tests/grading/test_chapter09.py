@@ -122,11 +122,46 @@ def test_essential_reference_is_opencvs_essential_matrix(sid):
 
 def test_unknown_counts_are_the_derived_ones():
     counts = ds.orientation_unknowns()
-    assert ch09._TASKS[next(t for t in ch09._TASKS if t.startswith("the dependent"))] == \
-        counts["relative"]
-    assert ch09._TASKS[next(t for t in ch09._TASKS if t.startswith("the absolute"))] == \
-        counts["absolute"]
-    assert ch09._TASKS[next(t for t in ch09._TASKS if t.startswith("the exterior"))] == \
-        counts["exterior"]
-    seen = {parameters_for(BY_ID["st.unknowns"], f"s{i}")["correct"] for i in range(60)}
+    by_start = {start: ch09._TASKS[next(t for t in ch09._TASKS if t.startswith(start))][0]
+                for start in ("the dependent", "the absolute", "the exterior")}
+    assert by_start == {"the dependent": counts["relative"], "the absolute": counts["absolute"],
+                        "the exterior": counts["exterior"]}
+    ex = BY_ID["st.unknowns"]
+    seen = {ex.reference(parameters_for(ex, f"s{i}")) for i in range(60)}
     assert seen == set("abcde")
+
+
+def _printed_options(statement):
+    """``{count: letter}`` read from the printed "(a) 5, (b) 6, …" of a statement."""
+    import re
+    return {int(n): k for k, n in re.findall(r"\(([a-e])\) (\d+)", statement)}
+
+
+def test_unknowns_question_counts_what_the_answer_counts():
+    # the forward intersection has 3 unknowns: the object coordinates, so the question must not
+    # say "orientation parameters, not object coordinates" for it (and must for the others)
+    ex = BY_ID["st.unknowns"]
+    counts = ds.orientation_unknowns()
+    expected_by_word = {"relative": counts["relative"], "absolute": counts["absolute"],
+                        "exterior": counts["exterior"], "resection": 6,
+                        "intersection": 3}            # X, Y, Z of one point
+    seen = set()
+    for i in range(300):
+        sid = f"s{4000000 + i}"
+        p = parameters_for(ex, sid)
+        text = ex.statement.format(**p)
+        intersection = "forward intersection" in p["task"]
+        assert ("not the object coordinates" in text) is not intersection
+        assert ("coordinates of that point" in text) is intersection
+        expected = next(v for w, v in expected_by_word.items() if w in p["task"])
+        assert ex.reference(p) == _printed_options(text)[expected]
+        seen.add(p["task"])
+    assert len(seen) == len(ch09._TASKS)
+
+
+def test_unknowns_variant_does_not_carry_the_answer():
+    ex = BY_ID["st.unknowns"]
+    for sid in STUDENTS:
+        p = parameters_for(ex, sid)
+        assert set(p) == {"task", "n", "counted"}
+        assert not set(str(v) for v in p.values()) & set("abcde")

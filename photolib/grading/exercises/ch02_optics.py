@@ -282,9 +282,17 @@ def _choice_params(rng):
     keys = "abcd"
     text = "; ".join(f"({keys[i]}) {_OPTIONS[j]}" for i, j in enumerate(order))
     k = float(rng.choice(_STOPS[1:5]))
-    return {"k": k, "k2": 2 * k, "options": text,
-            "correct": keys[order.index(0)], "wrong_shrinks": keys[order.index(1)],
-            "wrong_halves": keys[order.index(2)]}
+    return {"k": k, "k2": 2 * k, "options": text}
+
+
+def _stop_letter(index):
+    """The letter printed before ``_OPTIONS[index]`` (read from the text: no answer in ``p``)."""
+    def letter(p):
+        for item in p["options"].split("; "):
+            if item[4:] == _OPTIONS[index]:
+                return item[1]
+        raise LookupError(_OPTIONS[index])
+    return letter
 
 
 stop_down = Exercise(
@@ -293,14 +301,14 @@ stop_down = Exercise(
     statement="A photographer stops a lens down from f-number k = {k} to k = {k2} (twice "
               "the f-number) and keeps the focus. Which is right? {options}. Set the answer "
               "to the letter.",
-    parameters=_choice_params, reference=lambda p: p["correct"],
+    parameters=_choice_params, reference=_stop_letter(0),
     choices=dict(zip("abcd", _OPTIONS)),
     mistakes=(
         Mistake("stop", "a larger k means a smaller pupil d = f/k: the light cones get "
                         "narrower, so the depth of field grows; diffraction grows with k "
-                        "(r = 1.22·λ·k)", lambda p: p["wrong_shrinks"]),
+                        "(r = 1.22·λ·k)", _stop_letter(1)),
         Mistake("stop", "the depth of field does grow, but the Airy radius 1.22·λ·k grows "
-                        "with k: twice k, twice the disk", lambda p: p["wrong_halves"]),
+                        "with k: twice k, twice the disk", _stop_letter(2)),
     ))
 
 

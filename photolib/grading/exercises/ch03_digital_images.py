@@ -114,10 +114,24 @@ quant_noise = Exercise(
 
 
 # -- 4. SNR in dB (number) ------------------------------------------------------------------------
+#: the tolerance in dB: the inputs are exact, so only rounding of the answer (4 decimals, or a
+#: float32 computation: ~1e-6 dB) needs room
+SNR_ATOL_DB = 1e-4
+
+
 def _snr_params(rng):
-    return {"signal": int(rng.integers(40, 4000)),
-            "read_noise": round(float(rng.uniform(4.0, 25.0)), 1),
-            "gain": round(float(rng.uniform(1.0, 12.0)), 2)}
+    """Signal, read noise and a gain large enough that quantisation is visible.
+
+    The gain is drawn through the share q = (K²/12)/(S + σ_r²) of the quantisation variance,
+    3 … 30 %: leaving K²/12 out then changes the SNR by 10·log10(1 + q) ≥ 0.12 dB, far more
+    than the tolerance, for every variant (a coarse, e.g. 8-bit, converter). σ_r² < S keeps
+    the "shot noise missing" and "read noise missing" answers apart.
+    """
+    signal = int(rng.integers(40, 1500))
+    read_noise = round(float(rng.uniform(2.0, 6.0)), 1)
+    share = float(rng.uniform(0.03, 0.3))
+    gain = round(math.sqrt(12.0 * share * (signal + read_noise ** 2)), 2)
+    return {"signal": signal, "read_noise": read_noise, "gain": gain}
 
 
 def _snr_db(p, shot=True, read=True, quant=True, factor=20.0):
@@ -131,8 +145,9 @@ snr_db = Exercise(
     title="Signal-to-noise ratio in dB / Signal-Rausch-Verhältnis",
     statement="A pixel collects a mean signal of S = {signal} e⁻ (photon shot noise: Poisson). "
               "The read noise is {read_noise} e⁻, the gain K = {gain} e⁻/DN (quantisation "
-              "noise K²/12 in e⁻²), the dark signal negligible. What is the SNR in **dB**?",
-    parameters=_snr_params, reference=_snr_db, rtol=0.0, atol=0.01,
+              "noise K²/12 in e⁻²), the dark signal negligible. What is the SNR in **dB** "
+              "(at least four decimals)?",
+    parameters=_snr_params, reference=_snr_db, rtol=0.0, atol=SNR_ATOL_DB,
     mistakes=(
         Mistake("power-db", "an SNR is a ratio of amplitudes (signal / standard deviation): "
                             "its dB value is 20·log10, not 10·log10",
@@ -141,6 +156,9 @@ snr_db = Exercise(
                               "variance S", lambda p: _snr_db(p, shot=False)),
         Mistake("read-noise", "the read noise is missing: add σ_r² to the variance",
                 lambda p: _snr_db(p, read=False)),
+        Mistake("quant-noise", "the quantisation noise is missing: rounding to whole DN adds "
+                               "the variance K²/12 (in e⁻², K in e⁻/DN) to S + σ_r²",
+                lambda p: _snr_db(p, quant=False)),
         Mistake("ratio", "this is the SNR as a ratio; give it in dB: 20·log10(SNR)",
                 lambda p: 10 ** (_snr_db(p) / 20.0)),
     ))

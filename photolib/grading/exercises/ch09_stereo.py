@@ -213,37 +213,52 @@ essential = Exercise(
 
 # -- 5. unknowns of the orientations (choice) -----------------------------------------------------
 _COUNTS = {"a": 5, "b": 6, "c": 7, "d": 12, "e": 3}
+_ORIENTATION = "count the orientation parameters, not the object coordinates of the tie points"
+_POINT = "the orientations of both images are known: count the unknown coordinates of that point"
+#: task → (number of unknowns, what is counted); the order fixes the variants (rng.choice)
 _TASKS = {
-    "the dependent relative orientation (Folgebildanschluss) of the pair": 5,
+    "the dependent relative orientation (Folgebildanschluss) of the pair": (5, _ORIENTATION),
     "the independent relative orientation (gegenseitige Orientierung mit Drehungen beider "
-    "Bilder) of the pair": 5,
-    "the absolute orientation (7-parameter spatial similarity) of the model": 7,
-    "the exterior orientations of both images together": 12,
-    "the space resection of one of the two images": 6,
-    "the forward intersection of one object point": 3,
+    "Bilder) of the pair": (5, _ORIENTATION),
+    "the absolute orientation (7-parameter spatial similarity) of the model": (7, _ORIENTATION),
+    "the exterior orientations of both images together": (12, _ORIENTATION),
+    "the space resection of one of the two images": (6, _ORIENTATION),
+    "the forward intersection of one object point": (3, _POINT),
 }
 
 
 def _unknowns_params(rng):
     task = str(rng.choice(list(_TASKS)))
-    return {"task": task, "n": int(rng.integers(6, 40)),
-            "correct": next(k for k, v in _COUNTS.items() if v == _TASKS[task])}
+    return {"task": task, "n": int(rng.integers(6, 40)), "counted": _TASKS[task][1]}
+
+
+def _letter_of(count):
+    """The letter printed before ``count`` in the statement (read from the text: no answer in p)."""
+    return next(k for k, v in _COUNTS.items() if v == count)
+
+
+def _unknowns_key(p):
+    return _letter_of(_TASKS[p["task"]][0])
 
 
 def _wrong_count(count):
     def wrong(p):
-        key = next(k for k, v in _COUNTS.items() if v == count)
-        return None if key == p["correct"] else key
+        key = _letter_of(count)
+        return None if key == _unknowns_key(p) else key
     return wrong
+
+
+def _swapped(p):
+    return {"a": "c", "c": "a"}.get(_unknowns_key(p))
 
 
 unknowns = Exercise(
     id="st.unknowns", points=1, kind="choice", answer="choice_unknowns",
     title="Unknowns of the orientations / Unbekannte der Orientierungen",
     statement="A stereo pair with {n} tie points and enough control points. How many "
-              "unknowns (orientation parameters, not object coordinates) does {task} have? "
+              "unknowns does {task} have ({counted})? "
               "(a) 5, (b) 6, (c) 7, (d) 12, (e) 3. Set the answer to the letter.",
-    parameters=_unknowns_params, reference=lambda p: p["correct"],
+    parameters=_unknowns_params, reference=_unknowns_key,
     choices={k: str(v) for k, v in _COUNTS.items()},
     mistakes=(
         Mistake("count", "6 is the exterior orientation of one image; of the 12 parameters of "
@@ -251,8 +266,7 @@ unknowns = Exercise(
                          "absolute orientation fixes: relative 5, absolute 7",
                 _wrong_count(6)),
         Mistake("count", "12 − 7 = 5 for the relative orientation, 7 for the absolute one: "
-                         "they are swapped", lambda p: "c" if p["correct"] == "a" else
-                ("a" if p["correct"] == "c" else None)),
+                         "they are swapped", _swapped),
     ))
 
 
