@@ -102,6 +102,36 @@ def propagated_atol(reference, params: dict, half_units: dict, floor: float = 1e
     return float(total) if total.ndim == 0 else total
 
 
+def rounding_tolerance(reference, half_units, rtol=1e-6, mistakes=(), share=0.4, floor=1e-12):
+    """``tolerance`` of an exercise: the rounding of the printed inputs, kept off the mistakes.
+
+    The absolute tolerance is :func:`propagated_atol` of the printed
+    inputs' last digits (``half_units``), so an answer rounded as precisely as the inputs
+    allow is accepted, and ``rtol`` (1e-6) accepts float32 results. Where a recognisable
+    mistake lies closer than that (a variant with a tiny effect), the absolute tolerance is
+    cut to ``share`` of the distance to the nearest mistake, so the mistake still lands
+    outside with its hint. Mistakes that coincide with the reference are ignored. ``floor``
+    is the smallest absolute tolerance before that cut (an answer's own rounding).
+
+    >>> tol = rounding_tolerance(lambda p: p["a"] / 3, {"a": 0.005},
+    ...                          mistakes=(lambda p: p["a"] / 3 + 1e-4,))
+    >>> [round(float(t), 8) for t in tol({"a": 1.0})]
+    [1e-06, 4e-05]
+    """
+    def tolerance(p):
+        atol = propagated_atol(reference, p, half_units, floor=floor)
+        ref = np.asarray(reference(p), float)
+        for wrong in mistakes:
+            value = wrong(p)
+            if value is None:
+                continue
+            gap = float(np.max(np.abs(np.asarray(value, float) - ref)))
+            if gap > 1e-12 * (1.0 + float(np.max(np.abs(ref)))):
+                atol = np.minimum(atol, share * gap)
+        return rtol, atol
+    return tolerance
+
+
 def _numbers_match(answer, expected, rtol, atol) -> bool:
     a, e = np.asarray(answer, float), np.asarray(expected, float)
     if a.shape != e.shape or not np.all(np.isfinite(a)):

@@ -126,3 +126,11 @@ def test_classes_reference_matches_the_number_of_images_in_the_task(sid):
     else:
         assert "40" in p["task"] and chosen.startswith("multi-image")
 
+
+
+@pytest.mark.parametrize("sid", STUDENTS[:3])
+def test_ground_size_accepts_float32(sid):
+    ex = BY_ID["int.ground-size"]
+    p = parameters_for(ex, sid)
+    f = np.float32
+    assert _judge(ex, sid, lambda H: f(p["format_mm"]) * f(H) / f(p["c_mm"])).status == "correct"

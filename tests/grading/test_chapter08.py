@@ -151,3 +151,76 @@ def test_image_point_reference_agrees_with_opencv(sid):
     ours = np.array([f(*x) for x in X])
     np.testing.assert_allclose(ours, uv.reshape(-1, 2), atol=1e-6)
     assert math.isclose(abs(K[0, 0]), abs(K[1, 1]), rel_tol=1e-7)
+
+
+# -- fairness and hints of the audit (float32, OpenCV, rounded answers) ---------------------------
+
+def _rotation_scipy(p):
+    from scipy.spatial.transform import Rotation
+    return Rotation.from_euler("XYZ", [math.radians(p[n]) for n in ch08._ANGLES]).as_matrix()
+
+
+def _dlt_by_hand(p, dtype=float):
+    R = _rotation_scipy(p).astype(dtype)
+    K = np.array([[-p["c_mm"], 0, p["x0_mm"]], [0, -p["c_mm"], p["y0_mm"]], [0, 0, 1]], dtype)
+    X0 = np.array([p["X0"], p["Y0"], p["Z0"]], dtype)
+    M = K @ R.T @ np.column_stack([np.eye(3, dtype=dtype), -X0])
+    return (M / M[2, 3]).ravel()[:11]
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_dlt_vector_accepts_float32_and_seven_digits(sid):
+    ex = BY_ID["rdl.dlt-vector"]
+    p = parameters_for(ex, sid)
+    L = _dlt_by_hand(p)
+    assert _judge(ex, sid, _dlt_by_hand(p, np.float32)).status == "correct"
+    assert _judge(ex, sid, [float(f"{v:.6g}") for v in L]).status == "correct"
+    assert _judge(ex, sid, L * 1.001).status == "wrong"
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_dlt_interior_opencv_negative_c_has_a_hint(sid):
+    ex = BY_ID["rdl.dlt-interior"]
+    p = parameters_for(ex, sid)
+    K = cv2.decomposeProjectionMatrix(np.append(p["L"], 1.0).reshape(3, 4))[0]
+    K = K / K[2, 2]
+    assert _judge(ex, sid, np.array([K[0, 2], K[1, 2], abs(K[0, 0])])).status == "correct"
+    verdict = _judge(ex, sid, np.array([K[0, 2], K[1, 2], K[0, 0]]))   # K[0, 0] = −c
+    assert verdict.mistake == "sign-c" and "OpenCV" in verdict.message
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_dlt_interior_accepts_a_float32_decomposition(sid):
+    ex = BY_ID["rdl.dlt-interior"]
+    L = np.array(parameters_for(ex, sid)["L"], np.float32)
+    D2 = 1 / (L[8:11] @ L[8:11])
+    x0, y0 = D2 * (L[0:3] @ L[8:11]), D2 * (L[4:7] @ L[8:11])
+    c = np.sqrt(D2 * (L[0:3] @ L[0:3]) - x0**2)
+    assert _judge(ex, sid, np.array([x0, y0, c], np.float32)).status == "correct"
+
+
+def test_dlt_coefficient_reversed_principal_point_has_a_hint():
+    ex = BY_ID["rdl.dlt-coefficient"]
+    r = sp.Matrix(3, 3, sp.symbols("r11 r12 r13 r21 r22 r23 r31 r32 r33"))
+    X0, Y0, Z0, c, x0 = sp.symbols("X0 Y0 Z0 c x0")
+    D = -(r[0, 2] * X0 + r[1, 2] * Y0 + r[2, 2] * Z0)
+    sid = next(s for s in (f"s{i}" for i in range(100)) if parameters_for(ex, s)["k"] == 1)
+    verdict = _judge(ex, sid, (-x0 * r[0, 2] - c * r[0, 0]) / D)
+    assert verdict.mistake == "principal-point"
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_image_point_accepts_float32_and_rounded_coordinates(sid):
+    ex = BY_ID["rdl.image-point"]
+    L = np.array(parameters_for(ex, sid)["L"])
+    L32 = L.astype(np.float32)
+
+    def f32(X, Y, Z):
+        h = np.array([X, Y, Z, 1.0], np.float32)
+        return np.array([L32[:4] @ h, L32[4:8] @ h]) / (L32[8:] @ h[:3] + np.float32(1))
+
+    def rounded(X, Y, Z):
+        h = np.array([X, Y, Z, 1.0])
+        return np.round(np.array([L[:4] @ h, L[4:8] @ h]) / (L[8:] @ h[:3] + 1), 4)
+    assert _judge(ex, sid, f32).status == "correct"
+    assert _judge(ex, sid, rounded).status == "correct"

@@ -107,3 +107,35 @@ def test_critical_hint_names_the_erratum():
     verdict = _judge(ex, sid, stats.norm.ppf(1 - p["alpha"] / 2))
     assert verdict.mistake == "erratum" and "luhmann:p90-t-distribution" in verdict.message
 
+
+
+# -- fairness and hints of the audit --------------------------------------------------------------
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_sigma0_accepts_three_decimals(sid):
+    ex = BY_ID["bun.sigma0"]
+    p = parameters_for(ex, sid)
+    v = np.array(p["v"])
+    s0 = math.sqrt(v @ v / (p["n"] - p["u"]))
+    assert _judge(ex, sid, round(s0, 3)).status == "correct"
+    assert _judge(ex, sid, round(math.sqrt(v @ v / p["n"]), 3)).mistake == "divisor"
+
+
+def test_redundancy_sum_options_are_all_different():
+    ex = BY_ID["bun.redundancy-sum"]
+    for i in range(1000):
+        options = parameters_for(ex, f"s{i}")["options"].split("; ")
+        values = [o.split(") ")[1] for o in options]
+        assert len(set(values)) == 4, (i, options)
+
+
+@pytest.mark.parametrize("sid", STUDENTS[:3])
+def test_normal_contribution_float32_and_micrometre_hint(sid):
+    ex = BY_ID["bun.normal-contribution"]
+
+    def f32(a, sigma):
+        a = np.asarray(a, np.float32)
+        return np.outer(a, a) / np.float32(sigma) ** 2
+    assert _judge(ex, sid, f32).status == "correct"
+    verdict = _judge(ex, sid, lambda a, s: np.outer(a, a) / (1000.0 * s) ** 2)
+    assert verdict.mistake == "units-um"

@@ -130,3 +130,63 @@ def test_conic_centre_accepts_a_formula_string():
                if parameters_for(ex, s)["coordinate"] == "x_c" and parameters_for(ex, s)["b"] == 3)
     assert _judge(ex, sid, "(3*e - 2*c*d)/(4*a*c - 9)").status == "correct"
 
+
+
+# -- fairness of the audit (float32, SciPy, rounded answers) --------------------------------------
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_log_value_accepts_four_significant_digits(sid):
+    ex = BY_ID["im.log-value"]
+    p = parameters_for(ex, sid)
+    q = p["r"] ** 2 / (2 * p["sigma"] ** 2)
+    value = -(1 - q) * math.exp(-q) / (math.pi * p["sigma"] ** 4)
+    assert _judge(ex, sid, float(f"{value:.4g}")).status == "correct"
+    assert _judge(ex, sid, -(1 - q) * math.exp(-q)).mistake == "normalisation"
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_moment_p1_accepts_five_decimals(sid):
+    ex = BY_ID["im.moment-p1"]
+    p = parameters_for(ex, sid)
+    g = np.repeat(np.array(p["grey"], float), p["counts"])
+    m1, m2, m3 = (np.mean(g**k) for k in (1, 2, 3))
+    s = (m3 - 3 * m1 * m2 + 2 * m1**3) / (m2 - m1**2) ** 1.5
+    p1 = 0.5 * (1 + s / math.sqrt(4 + s * s))
+    assert _judge(ex, sid, round(p1, 5)).status == "correct"
+    assert _judge(ex, sid, 1 - p1).mistake == "sign"
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_circle_conic_accepts_float32_and_four_decimals(sid):
+    ex = BY_ID["im.circle-conic"]
+    p = parameters_for(ex, sid)
+    f = np.float32
+    A, D, E, F = f(p["A"]), f(p["D"]), f(p["E"]), f(p["F"])
+    xc, yc = -D / A, -E / A
+    v32 = np.array([xc, yc, np.sqrt(xc * xc + yc * yc - F / A)], np.float32)
+    assert _judge(ex, sid, v32).status == "correct"
+    assert _judge(ex, sid, np.round(v32.astype(float), 4)).status == "correct"
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_centroid_accepts_float32_and_scipy(sid):
+    ex = BY_ID["im.centroid"]
+    p = parameters_for(ex, sid)
+    w = np.maximum(np.array(p["patch"], np.float32) - np.float32(p["t"]), 0)
+    row, col = ndimage.center_of_mass(w)
+    rows, cols = np.indices(w.shape)
+    v32 = np.array([(cols * w).sum() / w.sum(), (rows * w).sum() / w.sum()], np.float32)
+    assert _judge(ex, sid, v32).status == "correct"
+    assert _judge(ex, sid, np.round([col, row], 4)).status == "correct"
+
+
+@pytest.mark.parametrize("sid", STUDENTS[:3])
+def test_lsm_row_accepts_float32(sid):
+    ex = BY_ID["im.lsm-row"]
+    r1 = np.float32(parameters_for(ex, sid)["r1"])
+
+    def row(x, y, g, gx, gy):
+        x, y, g, gx, gy = (np.float32(v) for v in (x, y, g, gx, gy))
+        return np.array([r1 * gx, r1 * gx * x, r1 * gx * y, r1 * gy, r1 * gy * x, r1 * gy * y,
+                         1, g], np.float32)
+    assert _judge(ex, sid, row).status == "correct"

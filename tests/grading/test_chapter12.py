@@ -110,3 +110,38 @@ def test_every_product_task_has_a_reference_and_a_distinct_distractor():
     seen = {parameters_for(BY_ID["prd.product"], sid)["i"] for sid in MANY}
     assert seen == set(range(len(ch12._TASKS)))
 
+
+
+# -- fairness of the audit (float32, rounded answers) ---------------------------------------------
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_numbers_accept_answers_rounded_to_the_mm(sid):
+    p = parameters_for(BY_ID["prd.relief-displacement"], sid)
+    dr = p["r_mm"] * p["dh"] / p["H"]
+    assert _judge(BY_ID["prd.relief-displacement"], sid, round(dr, 3)).status == "correct"
+    foot = p["r_mm"] * p["dh"] / (p["H"] - p["dh"])
+    assert _judge(BY_ID["prd.relief-displacement"], sid, foot).mistake == "foot-formula"
+    p = parameters_for(BY_ID["prd.occluded-length"], sid)
+    L = p["d"] * p["h"] / (p["H"] - p["h"])
+    assert _judge(BY_ID["prd.occluded-length"], sid, round(L, 3)).status == "correct"
+    assert _judge(BY_ID["prd.occluded-length"], sid, p["d"] * p["h"] / p["H"]).status == "wrong"
+    p = parameters_for(BY_ID["prd.dtm-accuracy"], sid)
+    a, b = ch12._FORMATS[p["format"]]
+    dZ = p["tol_m"] * p["c_mm"] / math.hypot(a, b)
+    assert _judge(BY_ID["prd.dtm-accuracy"], sid, round(dZ, 3)).status == "correct"
+
+
+@pytest.mark.parametrize("sid", STUDENTS[:3])
+def test_ortho_to_image_accepts_float32(sid):
+    from scipy.spatial.transform import Rotation
+    ex = BY_ID["prd.ortho-to-image"]
+    p = parameters_for(ex, sid)
+    R = Rotation.from_euler("XYZ", np.radians([p["omega_deg"], p["phi_deg"], p["kappa_deg"]]))
+    R = R.as_matrix().astype(np.float32)
+    X0 = np.array([p["X0"], p["Y0"], p["Z0"]], np.float32)
+
+    def image_point(X, Y):
+        Z = p["a"] + p["b"] * (X - p["X0"]) + p["d"] * (Y - p["Y0"])
+        k = R.T @ (np.array([X, Y, Z], np.float32) - X0)
+        return (-np.float32(p["c_mm"]) * k[:2] / k[2]).astype(np.float32)
+    assert _judge(ex, sid, image_point).status == "correct"

@@ -228,7 +228,7 @@ ground_size = Exercise(
               "c = {c_mm} mm. Write ground_size(H) returning the side length in **m** of the "
               "square ground area of a vertical image taken H m above flat ground.",
     parameters=_ground_params, reference=_ground_size(), cases=_ground_cases,
-    rtol=1e-9, atol=0.0,
+    rtol=1e-6, atol=0.0,   # float32 (2e-7); the old 1e-9 rejected it
     mistakes=(
         Mistake("half", "that is half the side (from the principal point to the edge); the "
                         "side is s'·H/c", _ground_size(half=True)),

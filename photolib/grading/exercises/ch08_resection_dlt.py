@@ -25,6 +25,7 @@ import numpy as np
 
 from photolib.grading import hints
 from photolib.grading.exercises.ch04_rotations import scaled_parameters
+from photolib.grading.judge import rounding_tolerance
 from photolib.grading.spec import Exercise, Mistake
 from photolib.grading.variants import aerial_camera, close_range_camera
 
@@ -127,7 +128,10 @@ dlt_vector = Exercise(
     statement="A close-range camera has the " + _CAMERA_TEXT + " (c_x = c_y = c, no shear, no "
               "distortion). Compute its eleven DLT parameters L1 … L11 (scaled so that the "
               "constant of the denominator is 1) as a NumPy array of shape (11,).",
-    parameters=_close_range_orientation, reference=_dlt_vector, rtol=1e-7, atol=1e-10,
+    # the printed inputs' rounding (1e-3 mm, m and °) and float32 (rtol 1e-6); the old
+    # rtol 1e-7 rejected a float32 computation and L printed to 7 significant digits
+    parameters=_close_range_orientation, reference=_dlt_vector,
+    tolerance=lambda p: _DLT_VECTOR_TOLERANCE(p),
     mistakes=(
         Mistake("transposed", "R and Rᵀ are swapped: the DLT matrix is K·Rᵀ·[I | −X0]",
                 lambda p: _dlt_formula(p, R=_rotation(p).T)),
@@ -144,6 +148,11 @@ dlt_vector = Exercise(
                 lambda p: _dlt_formula(p, c=p["c_mm"] * 1e-3, x0=p["x0_mm"] * 1e-3,
                                        y0=p["y0_mm"] * 1e-3)),
     ))
+
+
+_DLT_VECTOR_TOLERANCE = rounding_tolerance(
+    _dlt_vector, {name: 0.0005 for name in ("c_mm", "x0_mm", "y0_mm", "X0", "Y0", "Z0") + _ANGLES},
+    mistakes=[m.wrong for m in dlt_vector.mistakes])
 
 
 # -- 3. interior orientation from L (array) -------------------------------------------------------
@@ -183,8 +192,13 @@ dlt_interior = Exercise(
     statement="A DLT of a close-range image gave (image unit mm, object unit m) "
               "L1 … L11 = {L}. Decompose it: give the principal point x'0, y'0 and the camera "
               "constant c_x in mm as a NumPy array (x'0, y'0, c_x) of shape (3,).",
-    parameters=_interior_params, reference=_interior, rtol=0.0, atol=1e-5,
+    # 2e-5 mm: a float32 decomposition loses up to 1e-5 mm (c² = L²·ΣL1..3² − x'0²); the
+    # nearest mistake (the − x'0² forgotten) is ≥ 1e-4 mm away
+    parameters=_interior_params, reference=_interior, rtol=0.0, atol=2e-5,
     mistakes=(
+        Mistake("sign-c", "c comes out negative, as on the diagonal of OpenCV's K (its camera "
+                          "looks along +z): the camera constant is c > 0",
+                lambda p: _interior(p) * np.array([1.0, 1.0, -1.0])),
         Mistake("erratum", "x'0 and y'0 have the wrong sign, as printed in Luhmann's example "
                            "4.3 (luhmann:example-4.3): x'0 = +L²(L1L9 + L2L10 + L3L11)",
                 lambda p: _interior(p) * np.array([-1.0, -1.0, 1.0])),
@@ -203,7 +217,7 @@ def _coefficient_params(rng):
     return {"k": int(rng.integers(1, 12))}
 
 
-def _coefficient(p, transpose=False, c_sign=1, normalise=True, d_sign=1):
+def _coefficient(p, transpose=False, c_sign=1, normalise=True, d_sign=1, x0_sign=1):
     import sympy as sp
 
     from photolib.derive import collinearity as dc
@@ -218,6 +232,10 @@ def _coefficient(p, transpose=False, c_sign=1, normalise=True, d_sign=1):
         if p["k"] > 8:
             return None  # L9 … L11 do not contain c
         value = value.xreplace({dc.c: -dc.c})
+    if x0_sign < 0:
+        if p["k"] > 8:
+            return None  # L9 … L11 do not contain x0, y0
+        value = value.xreplace({dc.x0: -dc.x0, dc.y0: -dc.y0})
     return -value if d_sign < 0 else value
 
 
@@ -236,6 +254,9 @@ dlt_coefficient = Exercise(
         Mistake("transposed", "R was used where Rᵀ belongs: (kx, ky, N) = Rᵀ(X − X0)",
                 lambda p: _coefficient(p, transpose=True)),
         Mistake("sign-c", hints.MESSAGES["sign-c"], lambda p: _coefficient(p, c_sign=-1)),
+        Mistake("principal-point", "the sign of the principal point is reversed: "
+                                   "x' = x0 − c·kx/N, so x0 enters with the sign of N",
+                lambda p: _coefficient(p, x0_sign=-1)),
         Mistake("normalisation", "divide numerator and denominator by the constant "
                                  "D = −(r13·X0 + r23·Y0 + r33·Z0) so that the denominator "
                                  "ends in + 1", lambda p: _coefficient(p, normalise=False)),
@@ -287,7 +308,9 @@ image_point = Exercise(
               "(x', y') in mm of the object point (X, Y, Z) in m as a NumPy array of shape (2,). "
               "It is tested on ground points you do not see.",
     parameters=_image_params, reference=_image_function(), cases=_image_cases,
-    rtol=1e-9, atol=1e-9,
+    # 1 µm: float32 loses up to 0.3 µm to the cancellation in L1·X + … + L4 (X ≈ 5000 m);
+    # the old 1e-9 rejected float32 and coordinates rounded to 0.1 µm
+    rtol=0.0, atol=1e-3,
     mistakes=(
         Mistake("swapped", "x' uses L1 … L4 and y' uses L5 … L8; they are swapped",
                 _image_function(swapped=True)),

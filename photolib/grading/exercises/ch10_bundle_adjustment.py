@@ -21,6 +21,7 @@ import math
 
 import numpy as np
 
+from photolib.grading.judge import rounding_tolerance
 from photolib.grading.spec import Exercise, Mistake
 
 CHAPTER = "10-bundle-adjustment"
@@ -95,7 +96,10 @@ sigma0 = Exercise(
     statement="An adjustment with equal weights has n = {n} observations and u = {u} "
               "unknowns (no datum defect). Its residuals are v = {v} µm. Compute the "
               "a-posteriori standard deviation σ0 (µm).",
-    parameters=_sigma0_params, reference=_sigma0, rtol=1e-6, atol=1e-6,
+    # the rounding of the printed residuals (0.1 µm); the old 1e-6 rejected σ0 given to
+    # 0.001 µm. The divisor mistakes stay ≥ 0.1 µm away and keep their hints.
+    parameters=_sigma0_params, reference=_sigma0,
+    tolerance=lambda p: _SIGMA0_TOLERANCE(p),
     mistakes=(
         Mistake("divisor", "divide vᵀv by the redundancy r = n − u, not by n",
                 lambda p: _sigma0(p, divisor=lambda q: q["n"])),
@@ -106,6 +110,10 @@ sigma0 = Exercise(
     ))
 
 
+_SIGMA0_TOLERANCE = rounding_tolerance(_sigma0, {"v": 0.05},
+                                       mistakes=[m.wrong for m in sigma0.mistakes])
+
+
 # -- 3. redundancy numbers sum (choice) -----------------------------------------------------------
 _SUMS = ("n − u + d", "n − u", "n", "u")
 
@@ -114,8 +122,13 @@ def _sum_params(rng):
     rays = int(rng.integers(300, 2000))
     images = int(rng.integers(6, 30))
     points = int(rays / rng.uniform(2.4, 3.5))
-    n, u = 2 * rays, 6 * images + 3 * points
-    values = {"n − u + d": n - u + 7, "n − u": n - u, "n": n, "u": u}
+    n = 2 * rays
+    while True:   # four different numbers, else two options would both be right or wrong
+        u = 6 * images + 3 * points
+        values = {"n − u + d": n - u + 7, "n − u": n - u, "n": n, "u": u}
+        if len(set(values.values())) == len(values):
+            break
+        points += 1
     order = [int(i) for i in rng.permutation(len(_SUMS))]
     keys = "abcd"
     text = "; ".join(f"({keys[i]}) {values[_SUMS[j]]}" for i, j in enumerate(order))
@@ -178,11 +191,11 @@ def _contribution_params(rng):
     return {"u": int(rng.integers(4, 10)), "sigma_um": round(float(rng.uniform(1.0, 5.0)), 1)}
 
 
-def _contribution(weight=True, power=2):
+def _contribution(weight=True, power=2, scale=1.0):
     def make(p):
         def contribution(a, sigma):
             a = np.asarray(a, float)
-            w = 1.0 / np.asarray(sigma, float) ** power if weight else 1.0
+            w = 1.0 / (scale * np.asarray(sigma, float)) ** power if weight else 1.0
             return w * np.outer(a, a)
         return contribution
     return make
@@ -201,10 +214,13 @@ normal_contribution = Exercise(
               "σ ≈ {sigma_um} µm). Write contribution(a, sigma) returning its contribution "
               "to N = AᵀPA, a NumPy array of shape (u, u). It is tested on rows you do not see.",
     parameters=_contribution_params, reference=_contribution(), cases=_contribution_cases,
-    rtol=1e-9, atol=1e-6,
+    # rtol 1e-6 accepts float32 (the old 1e-9 did not)
+    rtol=1e-6, atol=1e-6,
     mistakes=(
         Mistake("weight", "the weight p = σ0²/σ² is missing: N = Σ aᵀ·p·a",
                 _contribution(weight=False)),
+        Mistake("units-um", "σ is given in mm (σ0 = 1 mm): with σ in µm the weights come out "
+                            "10⁶ times too small", _contribution(scale=1e3)),
         Mistake("weight", "the weight is p = σ0²/σ², with σ squared", _contribution(power=1)),
     ))
 

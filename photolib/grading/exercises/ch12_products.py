@@ -22,6 +22,7 @@ import math
 
 import numpy as np
 
+from photolib.grading.judge import rounding_tolerance
 from photolib.grading.spec import Exercise, Mistake
 from photolib.grading.variants import aerial_camera
 
@@ -51,7 +52,9 @@ relief = Exercise(
               "the ground. The top of a chimney {dh} m high appears {r_mm} mm from the "
               "principal point (= nadir point). By how much (in mm, image) is it displaced "
               "radially from its foot?",
-    parameters=_relief_params, reference=_relief, rtol=1e-6, atol=1e-6,
+    # the rounding of the printed r, Δh, H, kept off the foot-formula mistake (which moves
+    # Δr by as little as 0.2 %); the old 1e-6 rejected Δr given to 0.001 mm
+    parameters=_relief_params, reference=_relief, tolerance=lambda p: _RELIEF_TOLERANCE(p),
     mistakes=(
         Mistake("units-mm-m", _MM_M, lambda p: _relief(p) * 1e-3),
         Mistake("units-mm-m", _MM_M, lambda p: _relief(p) * 1e3),
@@ -62,6 +65,10 @@ relief = Exercise(
                           "asks for Δr in the image, in mm",
                 lambda p: _relief(p) * p["H"] / p["c_mm"]),
     ))
+
+
+_RELIEF_TOLERANCE = rounding_tolerance(_relief, {"r_mm": 0.005, "dh": 0.05, "H": 0.5},
+                                       mistakes=[m.wrong for m in relief.mistakes])
 
 
 # -- 2. ortho pixel → image coordinates (function) ------------------------------------------------
@@ -112,7 +119,9 @@ ortho_to_image = Exercise(
               "pixel whose centre lies at plan position (X, Y) — the point the indirect "
               "differential rectification takes its grey value from.",
     parameters=_ortho_params, reference=_ortho_function(), cases=_ortho_cases,
-    rtol=1e-9, atol=1e-7,
+    # 1 µm: float32 loses up to 0.13 µm (X ≈ 5000 m); the old 1e-7 mm rejected float32 and
+    # coordinates rounded to 0.1 µm
+    rtol=0.0, atol=1e-3,
     mistakes=(
         Mistake("flat", "the height of the ortho pixel is missing: take Z from the DTM at "
                         "(X, Y), not Z = 0 (that is a plane rectification)",
@@ -148,7 +157,10 @@ dtm_accuracy = Exercise(
               "{format}. Its points may be misplaced by at most {tol_m} m anywhere in the image "
               "(first order: a height error dZ moves a point by dZ·r/c, r its radial image "
               "distance). What height error dZ (in m) may the DTM have at most?",
-    parameters=_dtm_params, reference=_dtm_accuracy, rtol=1e-6, atol=1e-9,
+    # the rounding of the printed c and dZ to the mm (the old 1e-6 rejected dZ to 0.001 m);
+    # not the rounding of the tolerance (up to 5 %), which would merge the inverted and
+    # full-diagonal mistakes where c ≈ √2·r (88 mm, DMC format)
+    parameters=_dtm_params, reference=_dtm_accuracy, tolerance=lambda p: _DTM_TOLERANCE(p),
     mistakes=(
         Mistake("half-side", "the largest r is at the corner of the format: half the "
                              "diagonal, not half a side",
@@ -159,6 +171,10 @@ dtm_accuracy = Exercise(
         Mistake("inverted", "dZ = ΔR·c/r_max: the ratio is inverted",
                 lambda p: p["tol_m"] * math.hypot(*_FORMATS[p["format"]]) / p["c_mm"]),
     ))
+
+
+_DTM_TOLERANCE = rounding_tolerance(_dtm_accuracy, {"c_mm": 0.005}, floor=5e-4,
+                                    mistakes=[m.wrong for m in dtm_accuracy.mistakes])
 
 
 # -- 4. which product (choice) --------------------------------------------------------------------
@@ -225,7 +241,8 @@ occluded = Exercise(
               "{h} m high (flat roof) stands {d} m (plan distance) from the nadir point, facing "
               "away from it. How long (in m, on the ground, along the radial direction) is "
               "the strip behind the wall that the image cannot see?",
-    parameters=_occluded_params, reference=_occluded, rtol=1e-6, atol=1e-6,
+    # the rounding of the printed H, h, d (the old 1e-6 rejected L to 0.001 m)
+    parameters=_occluded_params, reference=_occluded, tolerance=lambda p: _OCCLUDED_TOLERANCE(p),
     mistakes=(
         Mistake("relief-formula", "d·h/H is too short: the ray over the roof edge (d, h) "
                                   "reaches the ground at d·H/(H − h), so L = d·h/(H − h)",
@@ -235,5 +252,8 @@ occluded = Exercise(
                 lambda p: p["d"] * p["H"] / (p["H"] - p["h"])),
     ))
 
+
+_OCCLUDED_TOLERANCE = rounding_tolerance(_occluded, {"H": 0.5, "h": 0.05, "d": 0.05},
+                                         mistakes=[m.wrong for m in occluded.mistakes])
 
 EXERCISES = (relief, ortho_to_image, dtm_accuracy, product, occluded)
