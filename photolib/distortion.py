@@ -58,6 +58,29 @@ class ConvergenceReport:
     history: tuple = field(default=())
 
 
+def _slow_advice(history, tol: float) -> str:
+    """For a run stopped by ``max_iter``: whether its largest steps were still shrinking.
+
+    A contraction (the ratio q of the last two steps below 1) converges, only slowly: about
+    ``log(tol/step)/log(q)`` more iterations reach ``tol``. Otherwise the iteration is not
+    contracting there and more iterations will not help.
+
+    >>> _slow_advice((1e-3, 4e-4, 1.6e-4), 1e-10)
+    '; the steps still shrink (×0.4 per iteration): it converges slowly, not diverges — about 16 more iterations would reach tol (raise max_iter, or use Newton)'
+    >>> _slow_advice((1e-3, 2e-3), 1e-10)
+    '; the steps do not shrink: the iteration is not contracting there'
+    """
+    if len(history) < 2 or not history[-2] > 0:
+        return ""
+    q = history[-1] / history[-2]
+    if not 0.0 < q < 1.0:
+        return "; the steps do not shrink: the iteration is not contracting there"
+    more = int(np.ceil(np.log(tol / history[-1]) / np.log(q))) if history[-1] > tol else 0
+    return (f"; the steps still shrink (×{q:.2g} per iteration): it converges slowly, not "
+            f"diverges — about {more} more iterations would reach tol (raise max_iter, or use "
+            "Newton)")
+
+
 class DistortionDivergenceError(RuntimeError):
     """The inversion did not converge; ``.report`` and ``.index`` (first bad point) tell more."""
 
@@ -360,7 +383,7 @@ class Distortion:
             raise DistortionDivergenceError(
                 f"{method} iteration did not converge for {int(np.sum(steps >= tol))} of {n} points "
                 f"within max_iter={max_iter} (first: point {i}, ideal {pts[i].tolist()}, last step "
-                f"{steps[i]:.3g} > tol={tol:g})", report, i)
+                f"{steps[i]:.3g} > tol={tol:g}){_slow_advice(history, tol)}", report, i)
         # a root beyond the fold of x − Δ(x) solves the equation but is not
         # the measured point: it lies on the mirrored sheet, e.g. on the other side of the centre.
         # Valid sheet (connected to the centre, where I − ∂Δ/∂x = I): both eigenvalues of
