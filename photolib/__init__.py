@@ -34,6 +34,12 @@ _EXPORTS = {
     "ConvergenceReport": "distortion", "Distortion": "distortion",
     "DistortionDivergenceError": "distortion", "OpenCVFit": "distortion",
     "image_from_pixel": "pixels", "pixel_from_image": "pixels",
+    # COLMAP and Agisoft Metashape (docs/conventions.md, "Other software")
+    "MetashapeInterior": "conversions", "colmap_from_pixel": "conversions",
+    "colmap_pose_from_exterior": "conversions", "exterior_from_colmap_pose": "conversions",
+    "exterior_from_metashape_transform": "conversions",
+    "interior_from_metashape": "conversions",
+    "metashape_transform_from_exterior": "conversions", "pixel_from_colmap": "conversions",
     # plane transformations (Luhmann 2.18-2.21)
     "AffineTransform": "transforms", "BilinearTransform": "transforms",
     "ComposedTransform": "transforms", "ConvergenceError": "transforms",
