@@ -38,6 +38,27 @@ def _taylor_gradient():
     return sp.Matrix([sp.cancel(lin.coeff(da[0]) / r1), sp.cancel(lin.coeff(db[0]) / r1)])
 
 
+#: 5.73: the corrected print's g_x', g_y' (∂g/∂x', ∂g/∂y', by the search coordinates); the
+#: old print's g_x, g_y (∂g⁰/∂x, ∂g⁰/∂y, by the template coordinates) are ``Gx, Gy``
+Gxp, Gyp = sp.symbols("g_xp g_yp", real=True)
+
+
+def _to_primed(e):
+    """Rename photolib.derive's g_x, g_y (there: ∂g/∂x', ∂g/∂y') to g_xp, g_yp."""
+    return e.xreplace({Gx: Gxp, Gy: Gyp})
+
+
+def _taylor_gradient_primed():
+    """The gradient 5.72 needs, (∂g/∂x', ∂g/∂y'), in the corrected 5.73's symbols."""
+    return _to_primed(_taylor_gradient())
+
+
+def _old_573_meaning():
+    """Old 5.73: g_x = ∂g⁰(x, y)/∂x with g⁰(x, y) = g(x'(x, y), y'(x, y)), by the chain rule."""
+    dgx, dgy = (_to_primed(d) for d in ip.template_gradient_chain())
+    return {Gx: dgx, Gy: dgy}
+
+
 OLD_572 = ("right-under-condition: r0 = 0, r1 = 1 (the radiometric start values) and, "
            "because the old 5.73 defines g_x, g_y by the template coordinates (x, y), "
            "a1 = b2 = 1, a2 = b1 = 0 (see luhmann:5.73): the first iteration")
@@ -135,18 +156,24 @@ def records():
                             condition={a[1]: 1, b[2]: 1, a[2]: 0, b[1]: 0}, claim="wrong",
                             condition_text="a1 = b2 = 1, a2 = b1 = 0 (pure shift, the start "
                                            "values)"),
-         "corrected": VersionSpec("right", expr=lambda: sp.Matrix([Gx, Gy]), claim="right",
-                                  target=_taylor_gradient)},
-        derivation=lambda: sp.Matrix(ip.template_gradient_chain()),
-        steps=("g∘(x'(x, y), y'(x, y)) differentiated by x and y with the chain rule (SymPy)",
-               "∂/∂x = g_x'·a1 + g_y'·b1, ∂/∂y = g_x'·a2 + g_y'·b2",
-               "corrected: the gradient in the Taylor expansion of 5.72 is the coefficient of "
-               "da0, db0 divided by r1, i.e. (∂g/∂x', ∂g/∂y')"),
-        note="The corrected print defines g_x' = ∂g/∂x' (by the search coordinates): the "
-             "gradient that the linearisation of 5.72 produces (coefficients of da0, db0 over "
-             "r1). The old g_x = ∂g⁰/∂x (by the template coordinates) equals it only for an "
-             "unsheared, unscaled patch. The corrected 5.72 still writes g_x, g_y for what the "
-             "corrected 5.73 calls g_x', g_y'."))
+         "corrected": VersionSpec("right", expr=lambda: sp.Matrix([Gxp, Gyp]), claim="right")},
+        derivation=_taylor_gradient_primed, given=_old_573_meaning,
+        symbols=lambda: {s.name: s for s in (*a, *b, Gx, Gy, Gxp, Gyp)},
+        steps=("5.72 linearised (image_processing.lsm_linearised): the gradient multiplying "
+               "r1·da0 and r1·db0 is (∂g/∂x', ∂g/∂y') of the search image = (g_xp, g_yp): "
+               "the derivation",
+               "old 5.73 as printed: g_x = ∂g⁰(x, y)/∂x, g_y = ∂g⁰(x, y)/∂y, by the template "
+               "coordinates, with g⁰(x, y) = g(x'(x, y), y'(x, y)) the resampled search patch",
+               "chain rule (image_processing.template_gradient_chain): g_x = a1·g_xp + b1·g_yp, "
+               "g_y = a2·g_xp + b2·g_yp; equal to (g_xp, g_yp) iff a1 = b2 = 1, a2 = b1 = 0",
+               "corrected 5.73 as printed: g_x' = ∂g(x', y')/∂x', g_y' = ∂g(x', y')/∂y', by the "
+               "search coordinates: (g_xp, g_yp), the derivation itself"),
+        note="Symbols: g_x, g_y are the old print's (by the template coordinates x, y), "
+             "g_xp, g_yp the corrected print's g_x', g_y' (by the search coordinates x', y'). "
+             "The corrected print defines the gradient that the linearisation of "
+             "5.72 produces (coefficients of da0, db0 over r1). The old g_x = ∂g⁰/∂x equals it "
+             "only for an unsheared, unscaled patch. The corrected 5.72 still writes g_x, g_y "
+             "for what the corrected 5.73 calls g_x', g_y'."))
     rr.append(figure("luhmann:p425-figure-ref", SRC + ", p. 425", "reference Abb. 5.4 → "
                      "Abb. 5.51", "a figure reference", claim="right"))
     rr.append(figure("luhmann:fig-8.67b", SRC + ", p. 611, Abb. 8.67b", "copyright note",

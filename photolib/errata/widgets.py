@@ -4,6 +4,17 @@ The callback :func:`evaluate_versions` is a plain function (unit-tested); :func:
 wires it to ipywidgets sliders (``continuous_update=False``, since a SymPy substitution takes
 milliseconds, not microseconds).
 
+Only formula records can be evaluated at numbers: at least one printed version and the
+derivation must be SymPy expressions. For the others (figures, text statements, examples whose
+verdict comes from a check, formulas checked by a function instead of a derivation)
+:func:`not_evaluable_reason` says why; :func:`evaluate_versions` raises ``ValueError`` with that
+reason and :func:`build_widget` shows it instead of sliders.
+
+A record whose derivation is the residual of an invariance (``luhmann:2.21``: the cross ratio
+is valid iff λ(projected points) − λ(points) ≡ 0) is evaluated as that residual under a fixed
+projectivity of the line, so each version is compared with the derivation's 0; the printed
+values and the course's λ are shown beside them.
+
 Examples
 --------
 >>> vals = evaluate_versions("luhmann:2.86", {"A": 2, "D": 3, "E": 4, "F": 1})
@@ -11,20 +22,101 @@ Examples
 ['corrected', 'derived', 'old']
 >>> round(vals["corrected"], 6) == round(vals["derived"], 6)
 True
+>>> evaluate_versions("de-summary:reflection", {})
+Traceback (most recent call last):
+...
+ValueError: de-summary:reflection cannot be evaluated at numbers: no derivation to evaluate (its verdict is recomputed by a check); no printed version is a formula
 """
 
 from __future__ import annotations
 
+import random
+from fractions import Fraction
+
 import sympy as sp
 
+from photolib.derive import plane
 from photolib.errata import get
 
 
+def _is_sym(e) -> bool:
+    return isinstance(e, (sp.Basic, sp.MatrixBase))
+
+
+def _resolve(v):
+    return v() if callable(v) else v
+
+
+# ------------------------------------------------------------------ invariance records (2.21)
+def _fixed_projectivity(seed: int = 21) -> dict:
+    """``{p, q, r, s: rationals}`` of t ↦ (pt + q)/(rt + s), drawn once at random (``seed``)."""
+    rng = random.Random(seed)
+    while True:
+        p, q, r, s = (sp.Rational(Fraction(rng.randint(-40, 40), rng.randint(7, 19)))
+                      for _ in range(4))
+        if abs(p * s - q * r) > sp.Rational(1, 2):          # far from degenerate
+            return dict(zip(plane.proj_line, (p, q, r, s)))
+
+
+PROJECTIVITY = _fixed_projectivity()
+#: records whose derivation is an invariance residual: id -> (what is invariant, its map)
+INVARIANCE_RECORDS = {"luhmann:2.21": "cross ratio"}
+
+
+def _projected(expr):
+    """``expr`` of the points t_A … t_D at the projected points (p t + q)/(r t + s)."""
+    image = {t: plane.line_projectivity(t).subs(PROJECTIVITY) for t in plane.t_line}
+    return expr.xreplace(image)
+
+
+def _map_text() -> str:
+    p, q, r, s = (PROJECTIVITY[k] for k in plane.proj_line)
+    return f"t ↦ ({p}·t + {q})/({r}·t + {s})"
+
+
+# ----------------------------------------------------------------------------- evaluability
+def not_evaluable_reason(rec) -> str | None:
+    """Why ``rec`` cannot be evaluated at numbers, or ``None`` if it can.
+
+    >>> not_evaluable_reason(get("luhmann:5.42")) is None
+    True
+    >>> not_evaluable_reason(get("luhmann:fig-3.45"))
+    'a figure record (not-checkable: figure only); no derivation to evaluate; no printed version is a formula'
+    """
+    why = []
+    derived = rec.derived()
+    if rec.kind == "figure":
+        why.append(f"a figure record ({next(iter(rec.specs.values())).verdict})")
+    if derived is None:
+        checked = any(s.check is not None for s in rec.specs.values())
+        why.append("no derivation to evaluate" + (" (its verdict is recomputed by a check)"
+                                                   if checked else ""))
+    elif not _is_sym(derived):
+        why.append(f"its derivation is not a formula (a Python {type(derived).__name__}: "
+                   "input of the check that recomputes the verdict)")
+    if not any(_is_sym(e) for e in rec.versions.values()):
+        why.append("no printed version is a formula")
+    return "; ".join(why) if why else None
+
+
+def _targets(rec) -> dict:
+    """``{version: target}`` of the versions compared with their own target, not the derivation."""
+    out = {}
+    for name, spec in rec.specs.items():
+        t = _resolve(spec.target)
+        if _is_sym(t) and name in rec.versions:
+            out[name] = t
+    return out
+
+
 def _free_symbols(rec) -> list:
+    if not_evaluable_reason(rec) is not None:
+        return []
+    given = rec.given_substitution()
     syms = set()
-    for e in list(rec.versions.values()) + [rec.derived()]:
-        if isinstance(e, (sp.Basic, sp.MatrixBase)):
-            e = e.subs(rec.given_substitution()) if rec.given_substitution() else e
+    for e in list(rec.versions.values()) + [rec.derived()] + list(_targets(rec).values()):
+        if _is_sym(e):
+            e = e.subs(given) if given else e
             syms |= e.free_symbols
     return sorted(syms, key=lambda s: s.name)
 
@@ -43,39 +135,94 @@ def evaluate_versions(record_id: str, values: dict) -> dict:
     -------
     dict
         ``{version: float or list of float, "derived": …}``: each printed version as
-        printed (no condition applied), and the derivation.
+        printed (no condition applied), and the derivation. A version compared with its own
+        target instead of the derivation (``VersionSpec.target``) adds ``"target (version)"``.
+        For an invariance record (:data:`INVARIANCE_RECORDS`, the cross ratio 2.21) each
+        version is its residual λ(projected points) − λ(points) under the fixed projectivity
+        :data:`PROJECTIVITY` (compare with ``"derived"``, the derivation's residual 0), and
+        ``"λ as printed (version)"`` and ``"λ course"`` (``photolib.transforms.cross_ratio``)
+        are the values at the given points.
 
     Raises
     ------
     ValueError
-        If a symbol has no value, naming the missing ones.
+        If a symbol has no value, naming the missing ones; or if the record cannot be
+        evaluated at numbers (no SymPy derivation or no printed formula), naming the record
+        and the reason.
     """
     rec = get(record_id)
+    reason = not_evaluable_reason(rec)
+    if reason is not None:
+        raise ValueError(f"{record_id} cannot be evaluated at numbers: {reason}")
     syms = _free_symbols(rec)
     missing = [s.name for s in syms if s.name not in values]
     if missing:
         raise ValueError(f"{record_id}: no value for {missing}")
     sub = {s: sp.Float(values[s.name], 30) for s in syms}
+    given = rec.given_substitution()
 
     def num(e):
-        e = e.subs(rec.given_substitution()) if rec.given_substitution() else e
-        v = e.subs(sub) if not isinstance(e, sp.MatrixBase) else e.subs(sub)
+        e = e.subs(given) if given else e
+        v = e.subs(sub)
         if isinstance(v, sp.MatrixBase):
             return [complex(x.evalf(20)).real for x in v]
         return complex(sp.N(v, 20)).real
 
     out = {}
+    if record_id in INVARIANCE_RECORDS:
+        from photolib.transforms import cross_ratio
+
+        for name, expr in rec.versions.items():
+            out[name] = num(_projected(expr) - expr)
+            out[f"λ as printed ({name})"] = num(expr)
+        out["λ course"] = cross_ratio(*(float(values[t.name]) for t in plane.t_line))
+        out["derived"] = num(rec.derived())
+        return out
     for name, expr in rec.versions.items():
         out[name] = num(expr)
+    for name, target in _targets(rec).items():
+        out[f"target ({name})"] = num(target)
     out["derived"] = num(rec.derived())
     return out
 
 
+def _fmt(v) -> str:
+    if isinstance(v, list):
+        return "[" + ", ".join(_fmt(e) for e in v) + "]"
+    return f"{v:.12g}"
+
+
+def _explanation(rec) -> str:
+    if rec.id in INVARIANCE_RECORDS:
+        return (f"The derivation of the {INVARIANCE_RECORDS[rec.id]} is an invariance: a "
+                "definition λ is valid iff λ(projected points) − λ(points) ≡ 0, so "
+                "<b>derived</b> is that residual, 0. <b>old</b>, <b>corrected</b>: each print's "
+                f"residual under the fixed projectivity {_map_text()} (drawn once at random); "
+                "<b>λ as printed</b>: each print's value at the points; <b>λ course</b>: "
+                "photolib.transforms.cross_ratio (the corrected print). Both prints are "
+                "invariant (residual 0) but give different numbers.")
+    if _targets(rec):
+        names = ", ".join(_targets(rec))
+        return (f"<b>{names}</b> is compared with its own target, shown as <b>target (…)</b>, "
+                "not with <b>derived</b>.")
+    return ""
+
+
 def build_widget(record_id: str, lo: float = -2.0, hi: float = 2.0):
-    """An ipywidgets box: one slider per symbol and an output showing every version's value."""
+    """An ipywidgets box: one slider per symbol and an output showing every version's value.
+
+    For a record that cannot be evaluated at numbers (see :func:`not_evaluable_reason`) the
+    box holds the title and a message saying why, and no sliders.
+    """
     import ipywidgets as w
 
     rec = get(record_id)
+    title = w.HTML(f"<b>{rec.id}</b>: {rec.item}")
+    reason = not_evaluable_reason(rec)
+    if reason is not None:
+        return w.VBox([title, w.HTML(
+            f"cannot be evaluated at numbers: {reason}. The verdict and its evidence: "
+            f"<code>python -m photolib errata --id {rec.id}</code>")])
     syms = _free_symbols(rec)
     sliders = {s.name: w.FloatSlider(value=round(0.3 + 0.1 * i, 2), min=lo, max=hi, step=0.01,
                                      description=s.name, continuous_update=False)
@@ -85,11 +232,12 @@ def build_widget(record_id: str, lo: float = -2.0, hi: float = 2.0):
     def refresh(_=None):
         try:
             vals = evaluate_versions(record_id, {k: s.value for k, s in sliders.items()})
-            out.value = "<br>".join(f"<b>{k}</b>: {v}" for k, v in sorted(vals.items()))
-        except (ZeroDivisionError, TypeError, ValueError) as exc:
+            out.value = "<br>".join(f"<b>{k}</b>: {_fmt(v)}" for k, v in sorted(vals.items()))
+        except (ArithmeticError, TypeError, ValueError) as exc:
             out.value = f"cannot evaluate here: {exc}"
 
     for s in sliders.values():
         s.observe(refresh, names="value")
     refresh()
-    return w.VBox([w.HTML(f"<b>{rec.id}</b>: {rec.item}"), *sliders.values(), out])
+    note = _explanation(rec)
+    return w.VBox([title, *([w.HTML(note)] if note else []), *sliders.values(), out])
