@@ -61,6 +61,15 @@ def describe(rec) -> str:
     return "\n".join(lines)
 
 
+def _progress(items, desc: str):
+    """``items`` with a progress bar on stderr when that is a terminal and tqdm is installed."""
+    try:
+        from tqdm import tqdm
+    except ImportError:  # tqdm comes with the course extras, not with the bare library
+        return items
+    return tqdm(items, desc=desc, unit="record", file=sys.stderr, disable=None, leave=False)
+
+
 def errata_main(argv) -> int:
     """``python -m photolib errata [--id ID] [--json]``."""
     p = argparse.ArgumentParser(prog="python -m photolib errata",
@@ -78,8 +87,9 @@ def errata_main(argv) -> int:
               else describe(rec))
         return 0
     recs = catalogue()
-    if args.json:
-        print(json.dumps([record_json(r) for r in recs], ensure_ascii=False, indent=1))
+    if args.json:  # the verdicts take some 20 s and print at the end: a bar on a terminal
+        rows = [record_json(r) for r in _progress(recs, "deriving and judging")]
+        print(json.dumps(rows, ensure_ascii=False, indent=1))
         return 0
     width = max(len(r.id) for r in recs)
     for r in recs:
