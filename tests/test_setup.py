@@ -37,15 +37,17 @@ def test_make_lab_serves_jupyterlab(tmp_path):
     venv = Path(sys.prefix)
     if not (venv / "bin" / "python").exists() or not (ROOT / "Makefile").exists():
         pytest.skip("not running from the project's virtual environment")
-    # the same target a student runs, in this test's environment; stamps keep it from
-    # reinstalling (make test wrote them)
+    # the same target a student runs, in this test's environment. `-o` marks the install
+    # stamp as up to date: this test checks serving, and a reinstall from ROOT into the venv
+    # the tests run in would repoint its editable install when ROOT is another checkout
     port = _free_port()
     log = tmp_path / "lab.log"
     env = {**os.environ, "JUPYTER_RUNTIME_DIR": str(tmp_path / "runtime"),
            "JUPYTER_CONFIG_DIR": str(tmp_path / "config")}
     with open(log, "w") as out:
-        proc = subprocess.Popen(["make", "-s", "-C", str(ROOT), "lab", f"PORT={port}",
-                                 f"VENV={venv}"], stdout=out, stderr=subprocess.STDOUT,
+        proc = subprocess.Popen(["make", "-s", "-C", str(ROOT), "-o", f"{venv}/.course-installed",
+                                 "lab", f"PORT={port}", f"VENV={venv}"],
+                                stdout=out, stderr=subprocess.STDOUT,
                                 env=env, start_new_session=True)
     try:
         deadline = time.monotonic() + 90

@@ -28,7 +28,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from PIL import Image
 
-__all__ = ["Explorer", "LiveFigure", "Panel", "slider"]
+__all__ = ["Explorer", "LiveFigure", "Panel", "finished", "slider"]
 
 
 class LiveFigure:
@@ -128,6 +128,18 @@ class Panel(widgets.VBox):
 
     def __repr__(self) -> str:
         return f"[widget: {self._title}]"
+
+
+def finished(fig):
+    """``fig``, complete, marked as not stale so that it is rendered once, not twice.
+
+    In IPython, pyplot's post-execute hook redraws every *stale* figure on its Agg canvas
+    (``draw_idle``) and then the inline backend draws the figure again to make the PNG;
+    the first draw is thrown away (some 0.1 s per figure). Changing the figure afterwards
+    marks it stale again, so a figure that is extended still gets redrawn.
+    """
+    fig.stale = False
+    return fig
 
 
 def slider(description: str, value: float, vmin: float, vmax: float, step: float,

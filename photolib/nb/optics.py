@@ -13,7 +13,7 @@ import functools
 import numpy as np
 
 import photolib.optics as po
-from photolib.nb.live import Explorer, LiveFigure, slider
+from photolib.nb.live import Explorer, LiveFigure, finished, slider
 
 __all__ = [
     "DIAGONAL_MM",
@@ -246,18 +246,6 @@ def _decade_labels(*axes):
         axis.set_major_formatter(mticker.FuncFormatter(_decade_label))
 
 
-def _finished(fig):
-    """``fig``, complete, marked as not stale so that it is rendered once, not twice.
-
-    In IPython, pyplot's post-execute hook redraws every *stale* figure on its Agg canvas
-    (``draw_idle``) and then the inline backend draws the figure again to make the PNG;
-    the first draw is thrown away (some 0.1 s per figure). Changing the figure afterwards
-    marks it stale again, so a figure that is extended still gets redrawn.
-    """
-    fig.stale = False
-    return fig
-
-
 # -- static figures -------------------------------------------------------------------------------
 
 def plot_refraction(n1: float = 1.0, n2: float = 1.5, angles_deg=(10, 30, 50, 70, 85)):
@@ -280,7 +268,7 @@ def plot_refraction(n1: float = 1.0, n2: float = 1.5, angles_deg=(10, 30, 50, 70
     ax.set(xlim=(-2.1, 2.1), ylim=(-2.2, 2.2), aspect="equal", xlabel="x", ylabel="z",
            title=f"refraction / Brechung: n1 = {n1:g} (top), n2 = {n2:g} (bottom)")
     ax.legend(fontsize=7, loc="upper right")
-    return _finished(fig)
+    return finished(fig)
 
 
 def plot_dispersion(glasses=("N-BK7", "F2", "N-SF11", "fused silica")):
@@ -298,7 +286,7 @@ def plot_dispersion(glasses=("N-BK7", "F2", "N-SF11", "fused silica")):
     ax.set(xlabel="wavelength λ [nm]", ylabel="refractive index n",
            title="dispersion / Dispersion (Sellmeier)")
     ax.legend(fontsize=7)
-    return _finished(fig)
+    return finished(fig)
 
 
 def plot_chromatic_shift(f: float = F_MM, glass: str = "N-BK7"):
@@ -311,7 +299,7 @@ def plot_chromatic_shift(f: float = F_MM, glass: str = "N-BK7"):
     ax.axhline(0, color="0.5", lw=0.8)
     ax.set(xlabel="wavelength λ [nm]", ylabel="f(λ) − f_d [mm]",
            title=f"chromatic focal shift / Farblängsfehler, f = {f:g} mm, {glass}")
-    return _finished(fig)
+    return finished(fig)
 
 
 def plot_airy_profile(wavelength_nm: float = 550.0, k: float = 8.0, half_um: float = 20.0):
@@ -327,7 +315,7 @@ def plot_airy_profile(wavelength_nm: float = 550.0, k: float = 8.0, half_um: flo
     ax.set(xlabel="r [µm]", ylabel="relative", ylim=(0, 1.05),
            title=f"Airy pattern / Beugungsscheibchen, λ = {wavelength_nm:g} nm, k = {k:g}")
     ax.legend(fontsize=7)
-    return _finished(fig)
+    return finished(fig)
 
 
 def plot_vignetting_map(c: float = 24.0, half=(18.0, 12.0)):
@@ -347,7 +335,7 @@ def plot_vignetting_map(c: float = 24.0, half=(18.0, 12.0)):
     fig.colorbar(im, ax=ax, label="E(τ)/E(0) = cos⁴τ")
     ax.set(xlabel="x' [mm]", ylabel="y' [mm]",
            title=f"natural vignetting / Lichtabfall, c = {c:g} mm")
-    return _finished(fig)
+    return finished(fig)
 
 
 def plot_pinhole_blur(c: float = 100.0, wavelength_nm: float = 550.0):
@@ -366,7 +354,7 @@ def plot_pinhole_blur(c: float = 100.0, wavelength_nm: float = 550.0):
     ax.set(xlabel="pinhole diameter d [mm]", ylabel="blur diameter [mm]", ylim=(0, 1.2),
            title=f"pinhole camera / Lochkamera, c = {c:g} mm")
     ax.legend(fontsize=7)
-    return _finished(fig)
+    return finished(fig)
 
 
 def plot_stereo_acuity(base_mm: float = 65.0, acuity_arcsec=(5.0, 10.0, 30.0)):
@@ -384,7 +372,7 @@ def plot_stereo_acuity(base_mm: float = 65.0, acuity_arcsec=(5.0, 10.0, 30.0)):
     ax.minorticks_off()
     _decade_labels(ax.xaxis, ax.yaxis)
     ax.legend(fontsize=7)
-    return _finished(fig)
+    return finished(fig)
 
 
 # -- widgets --------------------------------------------------------------------------------------

@@ -11,7 +11,7 @@ from __future__ import annotations
 import ipywidgets as widgets
 import numpy as np
 
-from photolib.nb.live import Explorer, LiveFigure, slider
+from photolib.nb.live import Explorer, LiveFigure, finished, slider
 from photolib.nb.text import matrix_html
 from photolib.rectify import rectify_image
 from photolib.transforms import (
@@ -381,18 +381,6 @@ class RectificationExplorer(Explorer):
         return rep["html"]
 
 
-def _finished(fig):
-    """``fig``, complete, marked as not stale so that it is rendered once, not twice.
-
-    In IPython, pyplot's post-execute hook redraws every *stale* figure on its Agg canvas
-    (``draw_idle``) and then the inline backend draws the figure again to make the PNG;
-    the first draw is thrown away (some 0.1 s per figure). Changing the figure afterwards
-    marks it stale again, so a figure that is extended still gets redrawn.
-    """
-    fig.stale = False
-    return fig
-
-
 # -- static figures ---------------------------------------------------------------------------
 
 def plot_transformed_grids(models, n: int = 9):
@@ -411,7 +399,7 @@ def plot_transformed_grids(models, n: int = 9):
         ax.plot(*_joined([t(line) for line in grid]).T, color="#1f77b4", lw=1)
         ax.set(aspect="equal", title=name, xticks=[], yticks=[])
     fig.tight_layout()
-    return _finished(fig)
+    return finished(fig)
 
 
 def plot_residuals(points, fits, exaggeration: float = 1.0, unit: str = "m", scale: float = 1.0):
@@ -441,7 +429,7 @@ def plot_residuals(points, fits, exaggeration: float = 1.0, unit: str = "m", sca
         ax.margins(0.15)
     fig.suptitle(f"residuals × {exaggeration:g}", fontsize=10)
     fig.tight_layout()
-    return _finished(fig)
+    return finished(fig)
 
 
 def plot_control_points(image, pix, labels=True):
@@ -456,7 +444,7 @@ def plot_control_points(image, pix, labels=True):
             ax.text(c + 2, r - 2, str(i), color="#2ca02c", fontsize=8)
     ax.set(title="photograph with control points (col, row)")
     ax.grid(False)
-    return _finished(fig)
+    return finished(fig)
 
 
 def plot_rectifications(images, extent):
@@ -470,4 +458,4 @@ def plot_rectifications(images, extent):
         ax.grid(False)
     np.atleast_1d(axes)[0].set_ylabel("Y [m]")
     fig.tight_layout()
-    return _finished(fig)
+    return finished(fig)
