@@ -58,6 +58,11 @@ class ConvergenceReport:
     history: tuple = field(default=())
 
 
+def _shrinking(history) -> bool:
+    """Were the last two (largest) steps of a run shrinking?"""
+    return len(history) >= 2 and history[-2] > 0 and 0.0 < history[-1] / history[-2] < 1.0
+
+
 def _slow_advice(history, tol: float) -> str:
     """For a run stopped by ``max_iter``: whether its largest steps were still shrinking.
 
@@ -72,9 +77,9 @@ def _slow_advice(history, tol: float) -> str:
     """
     if len(history) < 2 or not history[-2] > 0:
         return ""
-    q = history[-1] / history[-2]
-    if not 0.0 < q < 1.0:
+    if not _shrinking(history):
         return "; the steps do not shrink: the iteration is not contracting there"
+    q = history[-1] / history[-2]
     more = int(np.ceil(np.log(tol / history[-1]) / np.log(q))) if history[-1] > tol else 0
     return (f"; the steps still shrink (×{q:.2g} per iteration): it converges slowly, not "
             f"diverges — about {more} more iterations would reach tol (raise max_iter, or use "
@@ -82,12 +87,21 @@ def _slow_advice(history, tol: float) -> str:
 
 
 class DistortionDivergenceError(RuntimeError):
-    """The inversion did not converge; ``.report`` and ``.index`` (first bad point) tell more."""
+    """The inversion did not converge; ``.report`` and ``.index`` (first bad point) tell more.
 
-    def __init__(self, message: str, report: ConvergenceReport, index: int):
+    ``.converging`` is True when the run was stopped by ``max_iter`` while its steps were
+    still shrinking: a slow contraction (raise ``max_iter``), not a divergence.
+    ``.beyond_fold`` is True when the iteration converged to a root that is not the measured
+    position (beyond the fold of ``x − Δ(x)``): no measured position exists for that point.
+    """
+
+    def __init__(self, message: str, report: ConvergenceReport, index: int,
+                 converging: bool = False, beyond_fold: bool = False):
         super().__init__(message)
         self.report = report
         self.index = index
+        self.converging = converging
+        self.beyond_fold = beyond_fold
 
 
 @dataclass(frozen=True)
@@ -171,6 +185,35 @@ class Distortion:
         r0 = p["r0"]
         return {"K0": -(p["A1"] * r0**2 + p["A2"] * r0**4 + p["A3"] * r0**6),
                 "K1": p["A1"], "K2": p["A2"], "K3": p["A3"]}
+
+    @property
+    def fold_radius(self) -> float:
+        r"""Radius (mm) where the radial map ``r ↦ r − Δr'(r)`` stops increasing (∞ if never).
+
+        With Conrady's form ``Δr' = K0 r + K1 r³ + K2 r⁵ + K3 r⁷``,
+
+        .. math:: \frac{d}{dr}(r - Δr') = 1 - K_0 - 3K_1 r^2 - 5K_2 r^4 - 7K_3 r^6 = 0
+
+        at its smallest positive root: beyond it the radial map folds back, and a root of
+        ``x − Δ(x) = x_ideal`` there is not the measured position of the ideal point (it is
+        not connected to the centre). Used by :meth:`distort` with the local check.
+
+        >>> round(Distortion(A1=1e-3).fold_radius, 6), round(float(1 / np.sqrt(3e-3)), 6)
+        (18.257419, 18.257419)
+        >>> Distortion(A1=-1e-3).fold_radius
+        inf
+        """
+        k = self.conrady
+        c0 = 1.0 - k["K0"]
+        if c0 <= 0.0:
+            return 0.0
+        coeffs = [-7.0 * k["K3"], -5.0 * k["K2"], -3.0 * k["K1"], c0]
+        while coeffs and coeffs[0] == 0.0:
+            coeffs.pop(0)
+        if len(coeffs) < 2:
+            return float("inf")
+        s = [float(z.real) for z in np.roots(coeffs) if abs(z.imag) <= 1e-12 * abs(z) and z.real > 0]
+        return float(np.sqrt(min(s))) if s else float("inf")
 
     @classmethod
     def from_conrady(cls, K0=0.0, K1=0.0, K2=0.0, K3=0.0, *, B1=0.0, B2=0.0, C1=0.0, C2=0.0):
@@ -383,7 +426,8 @@ class Distortion:
             raise DistortionDivergenceError(
                 f"{method} iteration did not converge for {int(np.sum(steps >= tol))} of {n} points "
                 f"within max_iter={max_iter} (first: point {i}, ideal {pts[i].tolist()}, last step "
-                f"{steps[i]:.3g} > tol={tol:g}){_slow_advice(history, tol)}", report, i)
+                f"{steps[i]:.3g} > tol={tol:g}){_slow_advice(history, tol)}", report, i,
+                converging=_shrinking(history))
         # a root beyond the fold of x − Δ(x) solves the equation but is not
         # the measured point: it lies on the mirrored sheet, e.g. on the other side of the centre.
         # Valid sheet (connected to the centre, where I − ∂Δ/∂x = I): both eigenvalues of
@@ -399,14 +443,20 @@ class Distortion:
             _, _, a, b, c, d = distortion_delta_and_jacobian(x[near, 0], x[near, 1], *args)
             det_last[near] = (1.0 - a) * (1.0 - d) - b * c
             trace_last[near] = (1.0 - a) + (1.0 - d)
-        folded = (det_last <= 0.0) | (trace_last <= 0.0)
+        # and along the ray: a root beyond the radial map's fold radius is on an outer sheet
+        # even where I − ∂Δ/∂x is positive again there (e.g. A1 > 0 with A2 < 0)
+        folded = (det_last <= 0.0) | (trace_last <= 0.0) | (np.hypot(x[:, 0], x[:, 1])
+                                                             >= self.fold_radius)
         if folded.any():
             i = int(np.argmax(folded))
+            why = ("I − ∂Δ/∂x not positive there" if det_last[i] <= 0.0 or trace_last[i] <= 0.0
+                   else f"outside the radial fold at r' = {self.fold_radius:.6g} mm")
             raise DistortionDivergenceError(
                 f"{method} iteration for point {i} (ideal {pts[i].tolist()}) reached a root beyond "
-                f"the fold of x − Δ(x) at {x[i].round(6).tolist()} (I − ∂Δ/∂x not positive there): this ideal "
+                f"the fold of x − Δ(x) at {x[i].round(6).tolist()} ({why}): this ideal "
                 "point has no measured position on the valid sheet of the distortion model",
-                ConvergenceReport(method, False, iterations, float(np.max(steps)), history), i)
+                ConvergenceReport(method, False, iterations, float(np.max(steps)), history), i,
+                beyond_fold=True)
         out = x[0] if single else x
         return (out, report) if return_report else out
 

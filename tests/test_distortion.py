@@ -244,3 +244,40 @@ def test_pixel_size_of_the_wrong_shape_or_type_is_named():
         pl.pixel_from_image([0.0, 0.0], 3, 3, "a")
     np.testing.assert_array_equal(pl.image_from_pixel([0.0, 0.0], 3, 3, [0.01, 0.02]),
                                   [-0.01, 0.02])
+
+
+def test_root_on_an_outer_sheet_is_refused():
+    """A1 > 0 with A2 < 0: r − Δr rises to a maximum 18.39 mm at r = 30.03 mm, falls, and rises
+    again, so the ideal radius 20 mm has no measured position on the sheet through the centre;
+    Newton finds r' = 56.24 on the outer sheet, where I − ∂Δ/∂x is positive again."""
+    d = pl.Distortion(A1=5.2e-4, A2=-1e-7)
+    r = np.linspace(0.0, 30.0, 3001)
+    f = r - d.radial_profile(r)
+    assert np.all(np.diff(f) > 0) and f.max() < 20.0   # the valid sheet never reaches 20 mm
+    s_fold = np.roots([-5 * -1e-7, -3 * 5.2e-4, 1.0])   # 1 − 3A1 s − 5A2 s² = 0, s = r²
+    assert d.fold_radius == pytest.approx(np.sqrt(s_fold.real.min()), rel=1e-12)
+    with pytest.raises(pl.DistortionDivergenceError, match="outside the radial fold at r' = 30.025") as info:
+        d.distort([20.0, 0.0])
+    assert info.value.beyond_fold and not info.value.converging
+    # an ideal radius the valid sheet reaches (18 mm < 18.39 mm) still inverts: the root of
+    # r − Δr(r) = 18 inside the fold, found here by bisection
+    lo, hi = 0.0, d.fold_radius
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if mid - float(d.radial_profile(mid)) < 18.0 else (lo, mid)
+    assert d.distort([18.0, 0.0]) == pytest.approx([lo, 0.0], abs=1e-9)
+
+
+def test_stopped_by_max_iter_while_contracting_is_flagged():
+    d = pl.Distortion(A1=-5e-4)
+    with pytest.raises(pl.DistortionDivergenceError, match="converges slowly") as info:
+        d.distort([[20.0, 14.0]], method="fixed-point", tol=1e-12, max_iter=30)
+    assert info.value.converging
+    steps = info.value.report.history
+    assert steps[-1] < steps[-2] < steps[-3]
+    # and it does converge with more iterations, to Newton's answer
+    assert d.distort([[20.0, 14.0]], method="fixed-point", tol=1e-12, max_iter=200) == \
+        pytest.approx(d.distort([[20.0, 14.0]]), abs=1e-10)
+    with pytest.raises(pl.DistortionDivergenceError) as info:
+        pl.Distortion(A1=5e-3).distort([15.0, -9.0], method="fixed-point")
+    assert not info.value.converging

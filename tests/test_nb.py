@@ -100,12 +100,43 @@ def test_distortion_report_radial_curve_in_micrometres():
     np.testing.assert_allclose(rep["dr"], 1e-5 * rep["r"] * (rep["r"] ** 2 - 100) * 1e3)
 
 
-def test_iteration_report_newton_faster_fixed_point_diverges():
+def test_iteration_report_slow_convergence_is_not_divergence():
     rep = nd.iteration_report(A1=-2.0, radius=20.0)
-    assert rep["status"] == {"fixed": "converged", "newton": "converged"}
+    assert rep["status"] == {"fixed": nd.CONVERGED, "newton": nd.CONVERGED}
     assert len(rep["newton"]) < len(rep["fixed"])
+    # A1 = −5e-4: the steps shrink by q = 3|A1|r'² ≈ 0.45 and just miss tol in 30 steps
     strong = nd.iteration_report(A1=-50.0, radius=20.0)
-    assert strong["status"]["fixed"].startswith("diverged") and strong["status"]["newton"] == "converged"
+    assert strong["status"] == {"fixed": nd.SLOW, "newton": nd.CONVERGED}
+    r = np.hypot(*strong["measured"])
+    assert strong["q"] == pytest.approx(3 * 5e-4 * r**2, rel=1e-9) and strong["q"] < 1
+    h = strong["fixed"]
+    assert np.all(h[1:] < h[:-1])  # still shrinking at the limit
+    assert "still converging" in nd.IterationExplorer(A1=-50.0).html.value
+
+
+def test_iteration_report_divergence_and_fold():
+    # strong pincushion: r' − Δr'(r') never reaches the corner radius, both methods fail
+    gone = nd.iteration_report(A1=100.0, radius=21.5)
+    assert gone["status"]["fixed"] == nd.DIVERGED and gone["measured"] is None
+    # a root far outside the format, beyond the fold of the radial map: flagged, not "converged"
+    fold = nd.iteration_report(A1=52.0, A2=-10.0, radius=20.0)
+    assert fold["status"]["newton"] == nd.BEYOND_FOLD and np.isnan(fold["q"])
+
+
+def test_fixed_point_contracts_wherever_the_widget_has_a_measured_position():
+    """The chapter's claim: in the widget's range q < 1 wherever a valid measured point exists."""
+    for A1 in np.linspace(-100, 100, 11):
+        for A2 in (-20.0, 0.0, 20.0):
+            rep = nd.iteration_report(A1=A1, A2=A2, radius=21.5)
+            if rep["measured"] is not None:
+                assert rep["q"] < 1, (A1, A2, rep["q"])
+                assert rep["status"]["fixed"] in (nd.CONVERGED, nd.SLOW), (A1, A2)
+
+
+def test_distortion_report_docstring_bound():
+    r = np.hypot(*nd.HALF)
+    assert 2e-5 * r**3 * 1000 == pytest.approx(202.5, abs=0.05)
+    assert nd.distortion_report(A1=-2.0)["max_um"] < 2e-5 * r**3 * 1000
 
 
 def test_distortion_explorers_update():
@@ -138,6 +169,31 @@ def test_footprint_report_nadir_and_horizon():
     assert tilted["area_km2"] > rep["area_km2"]
     gone = npj.footprint_report(80, 0, 0)
     assert gone["corners"] is None and "does not meet" in gone["html"]
+
+
+def test_footprint_horizon_angle_is_atan_c_over_half_height():
+    w = npj.horizon_angle(35.0, 12.0)
+    assert w == pytest.approx(np.degrees(np.arctan(35.0 / 12.0)))
+    assert npj.footprint_report(w - 0.05)["corners"] is not None
+    assert npj.footprint_report(w + 0.05)["corners"] is None
+    assert npj.footprint_report(w - 0.05)["ray_angle_deg"] < 90 < npj.footprint_report(w + 0.05)["ray_angle_deg"]
+    p = npj.horizon_angle(35.0, 18.0)  # pitch: the half width
+    assert npj.footprint_report(0, -(p - 0.05))["corners"] is not None
+    assert npj.footprint_report(0, -(p + 0.05))["corners"] is None
+
+
+def test_footprint_explorer_reaches_the_horizon_and_follows_the_footprint():
+    f = npj.FootprintExplorer()
+    assert f.controls["omega"].max >= 80 and f.controls["phi"].min <= -80
+    f.set(omega=40, phi=40)
+    extent = f.report["extent_m"]
+    assert extent > 9000 and f._ax.get_xlim()[1] >= extent and f._ax.get_ylim()[1] >= extent
+    f.set(omega=70, phi=0)
+    assert "clipped" in f.html.value
+    f.set(omega=75)
+    assert f.report["corners"] is None and "does not meet" in f.html.value
+    f.set(omega=0)
+    assert f._ax.get_xlim()[1] < 2000
 
 
 def test_projection_explorers_update():

@@ -20,6 +20,7 @@ __all__ = [
     "IterationExplorer",
     "distortion_from_sliders",
     "distortion_report",
+    "contraction_factor",
     "iteration_report",
     "plot_convergence",
     "plot_distorted_grid",
@@ -74,7 +75,7 @@ def distortion_report(A1=0.0, A2=0.0, r0=0.0, B1=0.0, B2=0.0, C1=0.0, C2=0.0,
     Examples
     --------
     >>> rep = distortion_report(A1=-2.0)
-    >>> round(rep["max_um"], 1)    # less than |A1|·r³ = 201.6 µm at the ideal corner:
+    >>> round(rep["max_um"], 1)    # less than |A1|·r³ = 2e-5·21.633³ mm = 202.5 µm at the ideal corner:
     197.0
     >>> # Δ is evaluated at the measured corner, which barrel distortion moves inwards
     """
@@ -97,13 +98,43 @@ def distortion_report(A1=0.0, A2=0.0, r0=0.0, B1=0.0, B2=0.0, C1=0.0, C2=0.0,
     return {"distortion": d, "lines": lines, "r": r, "dr": dr, "max_um": max_um, "html": html}
 
 
+#: widget status texts of one inversion run
+CONVERGED = "converged"
+SLOW = "iteration limit reached, still converging"
+DIVERGED = "diverged / not contracting"
+BEYOND_FOLD = "converged beyond the fold (no measured position connected to the centre)"
+
+
 def _history(d, point, method, max_iter):
+    """``(steps, status, measured or None)`` of one inversion run; status from :data:`CONVERGED` …
+
+    A run stopped by ``max_iter`` whose steps still shrink (``DistortionDivergenceError.converging``)
+    is :data:`SLOW`, not a divergence; a root beyond the fold (``.beyond_fold``) is
+    :data:`BEYOND_FOLD`.
+    """
     try:
-        _, report = d.distort(point, method=method, tol=1e-12, max_iter=max_iter,
+        m, report = d.distort(point, method=method, tol=1e-12, max_iter=max_iter,
                               return_report=True)
-        return np.array(report.history), "converged" if report.converged else "not converged"
     except pl.DistortionDivergenceError as exc:
-        return np.array(exc.report.history), "diverged / did not converge"
+        status = SLOW if exc.converging else BEYOND_FOLD if exc.beyond_fold else DIVERGED
+        return np.array(exc.report.history), status, None
+    return np.array(report.history), CONVERGED, m
+
+
+def contraction_factor(d, measured) -> float:
+    """Contraction factor q of the fixed-point iteration at the measured point (dimensionless).
+
+    ``x ← x_ideal + Δ(x)`` shrinks its steps by ``q = ρ(∂Δ/∂x)`` per iteration near the
+    solution (ρ: largest |eigenvalue|); it converges where q < 1. For the radial model the
+    eigenvalues are ``∂Δr′/∂r′ = 3A1r′² + 5A2r′⁴`` (radial) and ``Δr′/r′ = A1r′² + A2r′⁴``
+    (tangential), so with A1 only, ``q = 3|A1|r′²`` at the *measured* radius r′.
+
+    >>> d = distortion_from_sliders(A1=-50.0)
+    >>> m = d.distort([16.0, 10.0])
+    >>> round(contraction_factor(d, m), 3), round(3 * 5e-4 * float(np.hypot(*m)) ** 2, 3)
+    (0.413, 0.413)
+    """
+    return float(np.max(np.abs(np.linalg.eigvals(d.jacobian_xy(measured)))))
 
 
 def iteration_report(A1=-2.0, A2=0.0, radius=20.0, max_iter=30) -> dict:
@@ -115,31 +146,48 @@ def iteration_report(A1=-2.0, A2=0.0, radius=20.0, max_iter=30) -> dict:
         Slider units (:data:`SCALE`).
     radius : float
         Distance of the ideal point from the principal point, mm (on the format diagonal).
+    max_iter : int
+        Iteration limit of both runs.
 
     Returns
     -------
     dict
         ``point`` (ideal, mm); ``fixed`` and ``newton``: arrays of the largest step per
-        iteration (mm); ``status`` per method; ``html``.
+        iteration (mm); ``status`` per method, one of :data:`CONVERGED`, :data:`SLOW`
+        (the limit was reached while the steps still shrank: slow convergence, not
+        divergence), :data:`DIVERGED` and :data:`BEYOND_FOLD`; ``measured`` (mm, or None);
+        ``q``, the contraction factor of the fixed point at the measured point (NaN when
+        there is none); ``html``.
 
     Examples
     --------
     >>> rep = iteration_report(A1=-2.0, radius=20.0)
     >>> len(rep["newton"]) < len(rep["fixed"])
     True
+    >>> strong = iteration_report(A1=-50.0, radius=20.0)   # q = 0.45: slow, not divergent
+    >>> strong["status"]["fixed"], round(strong["q"], 2)
+    ('iteration limit reached, still converging', 0.45)
     """
     d = distortion_from_sliders(A1=A1, A2=A2)
     u = np.array(HALF) / np.hypot(*HALF) * radius
     out = {"point": u}
-    status = {}
+    status, measured = {}, {}
     for key, method in (("fixed", "fixed-point"), ("newton", "newton")):
-        out[key], status[key] = _history(d, u, method, max_iter)
+        out[key], status[key], measured[key] = _history(d, u, method, max_iter)
+    m = measured["newton"] if status["newton"] == CONVERGED else (
+        measured["fixed"] if status["fixed"] == CONVERGED else None)
+    q = contraction_factor(d, m) if m is not None else float("nan")
     direct = float(np.hypot(*d.delta(u))) * 1000.0
+    if m is None:
+        where = "no measured position on the sheet connected to the centre"
+    else:
+        where = (f"measured point at r′ = {np.hypot(*m):.2f} mm; contraction factor of the "
+                 f"fixed point there q = {q:.2f} ({'converges' if q < 1 else 'not contracting'})")
     html = (f"<p>ideal point ({u[0]:.2f}, {u[1]:.2f}) mm<br>"
-            f"|Δ| evaluated at the ideal point: {direct:.1f} µm</p>"
+            f"|Δ| evaluated at the ideal point: {direct:.1f} µm<br>{where}</p>"
             f"<p>fixed point: {len(out['fixed'])} iterations, {status['fixed']}<br>"
             f"Newton: {len(out['newton'])} iterations, {status['newton']}</p>")
-    out.update(status=status, html=html)
+    out.update(status=status, measured=m, q=q, html=html)
     return out
 
 

@@ -28,7 +28,9 @@ __all__ = [
     "HALF",
     "FootprintExplorer",
     "ProjectionExplorer",
+    "footprint_limit",
     "footprint_report",
+    "horizon_angle",
     "plot_projection",
     "projection_report",
     "scene_points",
@@ -95,6 +97,20 @@ def projection_report(X0=0.0, Y0=-40.0, Z0=18.0, omega=70.0, phi=0.0, kappa=0.0,
             "inside": inside, "behind": behind, "html": html}
 
 
+def horizon_angle(c=35.0, half=HALF[1]) -> float:
+    """Roll angle ω (degrees) at which the image edge ``y' = half`` reaches the horizon.
+
+    With roll only, the ray of an image point is ``R_ω·(x', y', −c)``; its Z component
+    ``y' sin ω − c cos ω`` is negative (the ray goes down) while ``tan ω < c/y'``. So the
+    corner rays of the upper edge miss the ground from ``ω = atan(c/y')`` on; for pitch φ use
+    the half width ``x'`` instead (``φ = −atan(c/x')``).
+
+    >>> round(horizon_angle(35.0, 12.0), 2), round(horizon_angle(35.0, 18.0), 2)
+    (71.08, 62.78)
+    """
+    return float(np.degrees(np.arctan2(c, half)))
+
+
 def footprint_report(omega=0.0, phi=0.0, kappa=0.0, Z0=1000.0, c=35.0) -> dict:
     """Ground footprint of a tilted aerial image by monoplotting onto Z = 0.
 
@@ -112,30 +128,61 @@ def footprint_report(omega=0.0, phi=0.0, kappa=0.0, Z0=1000.0, c=35.0) -> dict:
     dict
         ``corners`` (5, 3) closed footprint polygon in m or None when a corner ray misses
         the ground; ``lines``: the image grid on the ground; ``area_km2``; ``scale_number``
-        (Bildmaßstabszahl of the nadir image, Z0/c); ``html``.
+        (Bildmaßstabszahl of the nadir image, Z0/c); ``ray_angle_deg``: the largest angle of
+        a corner ray from the plumb line (≥ 90°: that ray does not go down, horizon in the
+        image); ``extent_m``: the largest |X| or |Y| of the footprint (inf without one);
+        ``html``.
 
     Examples
     --------
     >>> rep = footprint_report(0, 0, 0, Z0=700.0, c=35.0)
     >>> rep["corners"][2].round(6).tolist()        # image corner (18, 12) mm
     [360.0, 240.0, 0.0]
+    >>> footprint_report(71.0)["corners"] is None, footprint_report(71.1)["corners"] is None
+    (False, True)
     """
     R = pl.rotation_opk(*(pl.deg2rad(a) for a in (omega, phi, kappa)))
     X0 = np.array([0.0, 0.0, Z0])
     scale_number = Z0 / (c / 1000.0)
+    image_corners = format_corners(*HALF)[:4]
+    rays = np.column_stack([image_corners, np.full(4, -c)]) @ R.T
+    ray_angle = float(np.max(np.degrees(np.arccos(-rays[:, 2] / np.linalg.norm(rays, axis=1)))))
     try:
         corners = pl.monoplot(format_corners(*HALF), X0, R, c, Z=0.0)
         lines = [pl.monoplot(line, X0, R, c, Z=0.0) for line in grid_lines(*HALF, n=7, samples=2)]
         x, y = corners[:4, 0], corners[:4, 1]
         area = 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))) / 1e6
-        status = f"footprint area: <b>{area:.3f} km²</b>"
+        extent = float(np.max(np.abs(corners[:, :2])))
+        status = (f"footprint area: <b>{area:,.3f} km²</b>, reaching {extent / 1000:,.2f} km "
+                  "from the nadir point")
     except ValueError:
-        corners, lines, area = None, None, float("nan")
-        status = "<span style='color:#b00'>a corner ray does not meet the ground (horizon in the image)</span>"
+        corners, lines, area, extent = None, None, float("nan"), float("inf")
+        status = ("<span style='color:#b00'>a corner ray does not meet the ground "
+                  "(horizon in the image)</span>")
     html = (f"<p>nadir image scale 1 : {scale_number:,.0f} (Bildmaßstabszahl m<sub>b</sub> = Z0/c)"
+            f"<br>steepest corner ray: {ray_angle:.1f}° from the plumb line (90° = horizon)"
             f"<br>{status}</p>")
     return {"R": R, "corners": corners, "lines": lines, "area_km2": area,
-            "scale_number": scale_number, "html": html}
+            "scale_number": scale_number, "ray_angle_deg": ray_angle, "extent_m": extent,
+            "html": html}
+
+
+def footprint_limit(extent, Z0, clip=20.0) -> tuple[float, bool]:
+    """Half width of the footprint axes: a round number above ``extent`` (m), at most
+    ``clip·Z0``; returns ``(limit, clipped)``.
+
+    >>> footprint_limit(360.0, 700.0), footprint_limit(5.3e4, 1000.0)
+    ((500.0, False), (20000.0, True))
+    """
+    top = clip * Z0
+    if not np.isfinite(extent) or 1.1 * extent > top:
+        return float(top), True
+    need = max(1.1 * extent, 0.5 * Z0)
+    mag = 10.0 ** np.floor(np.log10(need))
+    for f in (1.0, 2.0, 2.5, 5.0, 10.0):
+        if f * mag >= need:
+            return float(min(f * mag, top)), False
+    return float(top), False  # pragma: no cover
 
 
 def _draw_scene(ax):
@@ -193,20 +240,26 @@ class ProjectionExplorer(Explorer):
 
 
 class FootprintExplorer(Explorer):
-    """Flight attitude / Fluglage: roll, pitch and yaw of an aerial camera and its footprint."""
+    """Flight attitude / Fluglage: roll, pitch and yaw of an aerial camera and its footprint.
+
+    ω and φ go to ±80°, past the horizon angles of the 36 mm × 24 mm format with c = 35 mm
+    (:func:`horizon_angle`: 71.1° in roll, 62.8° in pitch). The axes follow the footprint
+    (:func:`footprint_limit`) up to ±20·Z0; a longer footprint is clipped and the text says so.
+    """
 
     title = "flight attitude and footprint explorer"
 
     def __init__(self, omega=0.0, phi=0.0, kappa=0.0, Z0=1000.0):
-        self.controls = {"omega": slider("ω roll [°]", omega, -40, 40, 1),
-                         "phi": slider("φ pitch [°]", phi, -40, 40, 1),
+        self.controls = {"omega": slider("ω roll [°]", omega, -80, 80, 0.5),
+                         "phi": slider("φ pitch [°]", phi, -80, 80, 0.5),
                          "kappa": slider("κ yaw [°]", kappa, -180, 180, 1),
                          "Z0": slider("Z0 [m]", Z0, 200, 1500, 50, fmt=".0f")}
         self.live = LiveFigure((4.0, 3.6))
-        ax = self.live.figure.add_subplot()
+        ax = self._ax = self.live.figure.add_subplot()
         self.live.figure.subplots_adjust(0.2, 0.13, 0.97, 0.92)
-        ax.set(xlim=(-2500, 2500), ylim=(-2500, 2500), aspect="equal", xlabel="X [m]",
-               ylabel="Y [m]", title="footprint on the ground Z = 0")
+        ax.set(aspect="equal", xlabel="X [m]", ylabel="Y [m]",
+               title="footprint on the ground Z = 0")
+        self._limit = None
         ax.plot(0, 0, "k^")
         (self._poly,) = ax.plot([], [], color="#d62728", lw=2)
         (self._grid,) = ax.plot([], [], color="#1f77b4", lw=0.7)
@@ -215,8 +268,17 @@ class FootprintExplorer(Explorer):
         self.report = None
         self._finish()
 
+    def _set_limit(self, limit) -> None:
+        if limit != self._limit:  # a new scale: the cached background has the old ticks
+            self._limit = limit
+            self._ax.set(xlim=(-limit, limit), ylim=(-limit, limit))
+            self.live.invalidate()
+
     def draw(self, omega, phi, kappa, Z0) -> str:
         self.report = rep = footprint_report(omega, phi, kappa, Z0)
+        limit, clipped = footprint_limit(rep["extent_m"], Z0)
+        self._set_limit(limit)
+        html = rep["html"]
         if rep["corners"] is None:
             self._poly.set_data([], [])
             self._grid.set_data([], [])
@@ -224,7 +286,10 @@ class FootprintExplorer(Explorer):
             self._poly.set_data(rep["corners"][:, 0], rep["corners"][:, 1])
             gx, gy, _ = lines_xyz(np.array([line for line in rep["lines"]]))
             self._grid.set_data(gx, gy)
-        return rep["html"]
+            if clipped:
+                html += (f"<p>axes clipped at ±{limit / 1000:g} km (20·Z0): the far corners lie "
+                         f"{rep['extent_m'] / 1000:,.0f} km out</p>")
+        return html
 
 
 def plot_projection(X0, R, c, x0=0.0, y0=0.0, distortion=None, title="image / Bild"):
