@@ -220,6 +220,30 @@ def student_t_cdf(t: float, dof: float) -> float:
 
     .. math:: P(T_ν \le t) = 1 - \tfrac12 I_{ν/(ν+t^2)}(ν/2, 1/2)\quad (t \ge 0)
 
+    with the regularised incomplete beta function :math:`I_x(a, b)` (Lentz's continued
+    fraction, NumPy/``math`` only); for t < 0 by symmetry,
+    :math:`P(T_ν \le -t) = 1 - P(T_ν \le t)`.
+
+    Parameters
+    ----------
+    t : float
+        Value of the test statistic (dimensionless, e.g. a standardised residual).
+    dof : float
+        Degrees of freedom / Freiheitsgrade ν, > 0 (not necessarily an integer); ``inf`` gives
+        the standard normal distribution.
+
+    Returns
+    -------
+    float
+        :math:`P(T_ν \le t)` in [0, 1] (dimensionless probability).
+
+    Raises
+    ------
+    ValueError
+        If ``dof`` is not a real number > 0 or ``t`` is not a finite number.
+
+    Examples
+    --------
     >>> round(student_t_cdf(2.0, 5), 6), round(student_t_cdf(0.0, 3), 12)
     (0.94903, 0.5)
     """
@@ -242,6 +266,27 @@ def critical_value(alpha: float, test: str = "normal", dof: float = math.inf) ->
         ``'normal'``: Baarda's w test (σ known); ``'t'``: Student's t with ``dof``;
         ``'tau'``: Pope's τ with redundancy ``dof`` = r (σ̂0 from the same adjustment),
         :math:`τ_c = t_c\sqrt{r}/\sqrt{r-1+t_c^2}`, t_c of t with r − 1 degrees of freedom.
+    dof : float
+        Degrees of freedom / Freiheitsgrade (> 0, ``inf`` allowed): ν of Student's t for
+        ``'t'``, the redundancy r (finite, > 1) for ``'tau'``; ignored for ``'normal'``.
+
+    Returns
+    -------
+    float
+        Critical value k > 0 (dimensionless, in units of the statistic's σ): an observation
+        is flagged when its |statistic| > k.
+
+    Notes
+    -----
+    .. math:: P(|T| > k) = α \iff P(T > k) = α/2
+
+    solved by bisection on the upper tail.
+
+    Raises
+    ------
+    ValueError
+        For ``alpha`` outside (0, 1), an unknown ``test``, ``dof ≤ 0``, or ``'tau'`` without
+        a finite redundancy r > 1.
 
     Examples
     --------
@@ -290,9 +335,44 @@ def data_snooping(result: BundleResult, alpha: float = 0.001, sigma: float | Non
     the τ distribution with r degrees of freedom. Flagged: |statistic| > critical value.
     Only the worst observation should be removed before adjusting again.
 
+    Parameters
+    ----------
+    result : BundleResult
+        A bundle adjustment with redundancy r > 1 (its ``residuals``, ``qvv``, ``sigma0``).
+    alpha : float
+        Significance level / Irrtumswahrscheinlichkeit of the two-sided test of each
+        coordinate, 0 < alpha < 1 (default 0.1 %).
+    sigma : float, optional
+        A-priori σ of an image coordinate (image unit, e.g. mm), > 0: w test. None: τ test
+        with σ̂0 of the adjustment.
+
     Returns
     -------
     SnoopingResult
+        ``test`` ('w' or 'tau'), ``alpha``, ``critical`` (:func:`critical_value`),
+        ``statistic`` (N, 2) (dimensionless, NaN where q_vv = 0) and ``flagged`` (K, 2) rows
+        ``(observation, 0 = x' / 1 = y')`` with |statistic| > critical, worst first.
+
+    Notes
+    -----
+    .. math:: w_k = \\frac{v_k}{σ\\sqrt{q_{vv,k}}},\\qquad
+              τ_k = \\frac{v_k}{\\hat σ_0\\sqrt{q_{vv,k}}}
+
+    Examples
+    --------
+    Two images of six control points; image 0's y' of point 5 carries a blunder of 0.05 mm
+    (measuring precision ~1 µm):
+
+    >>> X = np.array([[0, 0, 0], [10, 0, 1], [0, 10, 2], [10, 10, 0], [5, 5, 3], [3, 7, 1.0]])
+    >>> ext = np.array([[3.0, 5, 30, 0, 0, 0], [7.0, 5, 30, 0, 0, 0]])
+    >>> obs = np.vstack([project(X, e[:3], rotation_opk(*e[3:]), 20.0) for e in ext])
+    >>> obs += np.random.default_rng(1).normal(0.0, 0.001, obs.shape)
+    >>> obs[5, 1] += 0.05
+    >>> res = bundle_adjustment(obs, np.repeat([0, 1], 6), np.tile(np.arange(6), 2), ext, X,
+    ...                         20.0, control=np.arange(6))
+    >>> snoop = data_snooping(res)                 # τ test with σ̂0, r = 24 − 12 = 12
+    >>> snoop.test, snoop.worst, len(snoop.flagged)
+    ('tau', (5, 1), 1)
     """
     if sigma is None:
         test, crit = "tau", critical_value(alpha, "tau", result.redundancy)
@@ -329,6 +409,27 @@ def non_centrality(alpha: float = 0.001, beta: float = 0.80) -> float:
     from the normal quantiles (:func:`critical_value`), the part of the lower tail beyond
     −z_{1−α/2} neglected, as in Baarda's tables.
 
+    Parameters
+    ----------
+    alpha : float
+        Significance level / Irrtumswahrscheinlichkeit α of the two-sided w test,
+        0 < alpha < 1 (default 0.1 %).
+    beta : float
+        Power / Teststärke β, 0 < beta < 1 (default 80 %): the probability of finding a
+        blunder of δ0·σ_v.
+
+    Returns
+    -------
+    float
+        δ0 (dimensionless, in units of σ_v); 4.13 for α = 0.1 %, β = 80 %.
+
+    Raises
+    ------
+    ValueError
+        For ``alpha`` or ``beta`` outside (0, 1).
+
+    Examples
+    --------
     >>> round(non_centrality(0.001, 0.80), 2), round(non_centrality(0.05, 0.80), 2)
     (4.13, 2.8)
     """
@@ -348,8 +449,8 @@ def reliability(result: BundleResult, alpha: float = 0.001, beta: float = 0.80,
     Internal reliability (innere Zuverlässigkeit, *wewnętrzna wiarygodność*): the minimal
     detectable blunder (kleinster aufdeckbarer grober Fehler) of observation k,
 
-    .. math:: ∇_{0,k} = δ_0\,rac{σ_k}{\sqrt{r_k}},\qquad
-              ar δ_{0,k} = δ_0\sqrt{rac{1 - r_k}{r_k}}
+    .. math:: ∇_{0,k} = δ_0\,\frac{σ_k}{\sqrt{r_k}},\qquad
+              \bar δ_{0,k} = δ_0\sqrt{\frac{1 - r_k}{r_k}}
 
     External reliability (äußere Zuverlässigkeit, *zewnętrzna wiarygodność*): an undetected
     blunder ∇0,k moves the unknowns by ∇x = Q_xx Aᵀ P e_k ∇0,k, whose size in the metric
@@ -416,8 +517,34 @@ def inner_constraints(points) -> np.ndarray:
     (coordinates reduced to their centroid): for a point ``X``
     :math:`B_i = [I_3 \mid [X]_\times^T \mid X]`. ``N·G = 0`` for the full similarity G.
 
+    Parameters
+    ----------
+    points : array_like, shape (P, 3)
+        Approximate object points (object unit, e.g. m); reduced to their centroid here.
+
+    Returns
+    -------
+    B : ndarray, shape (3P, 7)
+        Rows ``3i … 3i + 2`` belong to point i (X, Y, Z); columns: translations in X, Y, Z
+        (dimensionless), rotations about X, Y, Z and the scale (object unit, the reduced
+        coordinates).
+
+    Notes
+    -----
+    .. math:: B_i = \begin{pmatrix} 1 & 0 & 0 & 0 & \bar Z_i & -\bar Y_i & \bar X_i \\
+              0 & 1 & 0 & -\bar Z_i & 0 & \bar X_i & \bar Y_i \\
+              0 & 0 & 1 & \bar Y_i & -\bar X_i & 0 & \bar Z_i \end{pmatrix},\qquad
+              \bar X_i = X_i - \tfrac1P \sum_j X_j
+
+    Examples
+    --------
     >>> inner_constraints([[1.0, 0, 0], [-1.0, 0, 0]]).shape
     (6, 7)
+    >>> B = inner_constraints([[1.0, 0, 0], [-1.0, 0, 0]])
+    >>> (B[:3, 5] + 0.0).tolist()   # point (1, 0, 0): a rotation about Z moves it along +Y
+    [0.0, 1.0, 0.0]
+    >>> (B[:3, 6] + 0.0).tolist()   # the scale moves it away from the centroid
+    [1.0, 0.0, 0.0]
     """
     P, single = as_points(points, 3, "points")  # finite: NaN would spread into every row
     if single:
@@ -437,8 +564,40 @@ def normal_matrix_pattern(image_index, point_index, n_images: int, n_points: int
     pattern of the reduced normal matrix (points eliminated), (6M + k) square: images are
     coupled where they share a new point. For ``matplotlib``'s ``spy``.
 
+    Parameters
+    ----------
+    image_index, point_index : array_like of int, shape (N,)
+        Image j and object point i of each measured image point, as in
+        :func:`bundle_adjustment`.
+    n_images : int
+        Number of images M, ≥ 1.
+    n_points : int
+        Number of object points P, ≥ 0.
+    n_interior : int
+        Number k of interior (self-calibration) parameters common to all images, ≥ 0.
+    fixed : sequence of int
+        Indices of control points with fixed coordinates (no unknowns, no rows/columns).
+    reduced : bool
+        If True the pattern of the reduced normal matrix (points eliminated).
+
+    Returns
+    -------
+    ndarray of bool, shape (u, u)
+        True where N may be non-zero; ``u = 6M + k + 3·(P − len(fixed))``, or ``6M + k`` if
+        ``reduced``.
+
+    Notes
+    -----
+    .. math:: N = A^TA,\\qquad N_{ab} \\ne 0 \\iff \\text{the unknowns a and b occur in
+              one observation (or, reduced, share a new point)}
+
+    Examples
+    --------
     >>> normal_matrix_pattern([0, 1], [0, 0], 2, 1).shape
     (15, 15)
+    >>> P = normal_matrix_pattern([0, 1], [0, 0], 2, 1, reduced=True)
+    >>> P.shape, bool(P[0, 6])       # images 0 and 1 share point 0: coupled
+    ((12, 12), True)
     """
     n_images, n_points = as_int(n_images, "n_images", minimum=1), as_int(n_points, "n_points",
                                                                            minimum=0)
@@ -687,6 +846,10 @@ def bundle_adjustment(xy, image_index, point_index, exterior, points, c, x0=0.0,
         Stop when the update is below ``tol`` (angles, rad) and ``tol·extent`` (lengths).
     max_iter : int
         Iteration limit; reaching it raises ``ConvergenceError`` unless ``check=False``.
+    check : bool
+        If True (default) no convergence within ``max_iter`` raises ``ConvergenceError``;
+        False returns the last iterate with ``converged=False`` (its σ0 and covariances
+        are those of that iterate, not of an adjusted block).
     callback : callable, optional
         ``callback(record)`` with an :class:`IterationRecord` after each iteration.
 

@@ -185,6 +185,24 @@ def colmap_from_pixel(colrow):
     """COLMAP image coordinates ``(u, v) = (col + 0.5, row + 0.5)``; inverse of
     :func:`pixel_from_colmap`.
 
+    Parameters
+    ----------
+    colrow : array_like, shape (N, 2) or (2,)
+        The course's pixel position (col, row), px, (0, 0) at the centre of the top-left pixel,
+        row downwards (e.g. from :func:`photolib.pixel_from_image`).
+
+    Returns
+    -------
+    uv : ndarray, shape (N, 2) or (2,)
+        COLMAP pixel coordinates (x right, y down), px, origin at the top-left **corner** of
+        the image; the same rank as ``colrow``.
+
+    Notes
+    -----
+    .. math:: u = col + 0.5, \\qquad v = row + 0.5
+
+    Examples
+    --------
     >>> colmap_from_pixel([[0.0, 0.0], [1.0, 2.0]]).tolist()
     [[0.5, 0.5], [1.5, 2.5]]
     """
@@ -233,6 +251,34 @@ def exterior_from_metashape_transform(T, *, atol: float = 1e-6):
     (``camera.transform`` of a scaled chunk, ``T[:3, :3] = s·Q``) is refused: pass the
     transform in a metric chunk frame, or divide the scale out first.
 
+    Parameters
+    ----------
+    T : array_like, shape (4, 4)
+        Metashape's ``camera.transform``, camera (OpenCV frame: x right, y down, +z forward)
+        → chunk, ``X = T·(x_cam, 1)``; last row ``(0, 0, 0, 1)``, translation in object unit.
+    atol : float
+        Tolerance (dimensionless) on the last row and on the orthonormality, det +1, of
+        ``T[:3, :3]·diag(1, −1, −1)``.
+
+    Returns
+    -------
+    X0 : ndarray, shape (3,)
+        Projection centre / Projektionszentrum in the chunk frame (object unit).
+    R : ndarray, shape (3, 3)
+        The course's rotation camera → object, ``R = R_ω·R_φ·R_κ``.
+
+    Raises
+    ------
+    ValueError
+        For a wrong shape, a non-finite value, a last row other than ``(0, 0, 0, 1)`` or a
+        rotation part that is not a proper rotation (e.g. a scaled chunk).
+
+    Notes
+    -----
+    .. math:: R = T_{1:3,1:3}\\,\\operatorname{diag}(1, -1, -1), \\qquad X_0 = T_{1:3,4}
+
+    Examples
+    --------
     >>> X0, R = exterior_from_metashape_transform(metashape_transform_from_exterior([1.0, 2.0, 3.0], np.eye(3)))
     >>> X0.tolist(), bool(np.allclose(R, np.eye(3)))
     ([1.0, 2.0, 3.0], True)

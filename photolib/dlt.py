@@ -246,6 +246,40 @@ def dlt_from_camera(c_x, c_y, x0, y0, X0, R, skew=0.0) -> np.ndarray:
     ``[A | b] = K·Rᵀ·[I | −X0] / N(origin)`` with K as in the module docstring and the
     scale chosen so that ``L12 = 1``.
 
+    Parameters
+    ----------
+    c_x, c_y : float
+        Camera constants / Kamerakonstanten in x' and y', > 0 (image unit, e.g. mm); equal for
+        square pixels and no affinity.
+    x0, y0 : float
+        Principal point / Bildhauptpunkt (image unit).
+    X0 : array_like, shape (3,)
+        Projection centre / Projektionszentrum (object unit, e.g. m).
+    R : array_like, shape (3, 3)
+        Rotation camera → object, ``R = R_ω·R_φ·R_κ`` (:func:`photolib.rotation_opk`).
+    skew : float
+        The shear s, the eleventh DLT parameter (image unit):
+        ``x' = x'0 − c_x·kx/N + s·ky/N``.
+
+    Returns
+    -------
+    L : ndarray, shape (11,)
+        L1…L11 (Luhmann 4.24), scaled so that the twelfth element is 1; L1–L8 in image unit
+        per object unit (L4, L8 in image unit), L9–L11 per object unit.
+
+    Raises
+    ------
+    ValueError
+        If the object origin lies in the principal plane of the camera (N = 0), where no
+        form with ``L12 = 1`` exists.
+
+    Notes
+    -----
+    .. math::
+        K = \\begin{pmatrix} -c_x & s & x'_0 \\\\ 0 & -c_y & y'_0 \\\\ 0 & 0 & 1
+        \\end{pmatrix},\\qquad P = K\\,R^T\\,[I \\mid -X_0],\\qquad
+        (L_1, …, L_{11}, 1) = \\operatorname{vec}(P)/P_{34}
+
     Examples
     --------
     >>> L = dlt_from_camera(35.0, 35.0, 0.0, 0.0, [0.0, 0.0, 10.0], np.eye(3))

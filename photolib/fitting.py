@@ -218,6 +218,28 @@ def circle_from_conic(A, D, E, F) -> tuple[np.ndarray, float]:
     — the errata's corrected 2.86 (record ``luhmann:2.86``); the old print
     :math:`\sqrt{D^2 + E^2 - AF}` is right only for A = 1.
 
+    Parameters
+    ----------
+    A : float
+        Coefficient of ``x² + y²``, ≠ 0. The equation may have any scale and sign; with x, y
+        in mm, A·mm², D·mm and F share one unit (A = 1: D, E in mm, F in mm²).
+    D, E : float
+        Half the coefficients of x and y.
+    F : float
+        Constant term.
+
+    Returns
+    -------
+    centre : ndarray, shape (2,)
+        Centre ``(x_c, y_c)``, unit of the coordinates of the conic (e.g. mm).
+    radius : float
+        Radius r > 0, same unit.
+
+    Raises
+    ------
+    ValueError
+        If A = 0 (a straight line) or D² + E² − AF ≤ 0 (no real circle).
+
     Examples
     --------
     >>> c, r = circle_from_conic(2.0, -2.0, 4.0, 2.0)    # 2(x² + y²) − 4x + 8y + 2 = 0
@@ -253,6 +275,23 @@ def plane_through_points(p1, p2, p3) -> Plane:
     :math:`z = a_0 + a_1x + a_2y`; its printed matrix holds only with P1 at the origin (errata
     record ``luhmann:2.136``): then :math:`a_0 = z_1`, and in general
     :math:`a_1 = -n_x/n_z`, :math:`a_2 = -n_y/n_z`, :math:`a_0 = d/n_z`.
+
+    Parameters
+    ----------
+    p1, p2, p3 : array_like, shape (3,)
+        Three points P1, P2, P3, not collinear (object unit, e.g. m).
+
+    Returns
+    -------
+    Plane
+        ``normal`` (3,), unit normal (dimensionless) in the right-hand order P1 → P2 → P3, and
+        ``d``, the signed distance of the plane from the origin along ``normal`` (object unit);
+        the plane is ``normal · X = d``.
+
+    Raises
+    ------
+    DegenerateGeometryError
+        If the three points are collinear or coincide.
 
     Examples
     --------
@@ -294,6 +333,26 @@ def fit_plane(points) -> PlaneFit:
     (total least squares: all three coordinates are treated alike). Distances
     :math:`v_i = n·(X_i - \bar X)`; :math:`σ_0 = \sqrt{\sum v_i^2/(N - 3)}`. The sign is
     chosen with :math:`n_z > 0` (for a vertical plane the first non-zero component > 0).
+
+    Parameters
+    ----------
+    points : array_like, shape (N, 3)
+        Points X_i, N ≥ 3, not collinear (object unit, e.g. m).
+
+    Returns
+    -------
+    PlaneFit
+        ``normal`` (3,) unit normal (dimensionless, :math:`n_z ≥ 0`), ``d`` (object unit,
+        the plane is ``normal · X = d``), ``centroid`` (3,) (object unit), ``distances`` (N,)
+        signed orthogonal distances :math:`v_i` (object unit) and ``sigma0`` (object unit;
+        NaN for N = 3).
+
+    Raises
+    ------
+    ValueError
+        If fewer than 3 points are given.
+    DegenerateGeometryError
+        If the points are collinear or coincide.
 
     Examples
     --------

@@ -83,8 +83,30 @@ def _read() -> tuple:
 def load_glossary() -> list[Term]:
     """All terms, in the order of the course (by chapter, then as listed).
 
-    Raises ``ValueError`` naming the line of ``glossary.csv`` with an empty language, an
-    unknown chapter or an unknown source.
+    The terms are read once from the package data ``photolib/data/glossary.csv`` (columns
+    ``en, de, pl, hu, chapter, sources``) and cached.
+
+    Returns
+    -------
+    list of Term
+        One :class:`Term` per row: ``en``, ``de``, ``pl``, ``hu`` (the term in English,
+        German, Polish, Hungarian), ``chapter`` (one of :data:`CHAPTERS`) and ``sources``
+        (keys of :data:`SOURCES`), sorted by the chapter's place in :data:`CHAPTERS`.
+
+    Raises
+    ------
+    ValueError
+        For a row of ``glossary.csv`` with an empty language, an unknown chapter or an
+        unknown source; the message names the line.
+
+    Examples
+    --------
+    >>> terms = load_glossary()
+    >>> terms[0].en, terms[0].chapter
+    ('photogrammetry', '01-introduction')
+    >>> t = next(t for t in terms if t.en == "camera constant")
+    >>> t.de, t.pl, t.hu
+    ('Kamerakonstante', 'odległość obrazowa kamery', 'kameraállandó')
     """
     return sorted(_read(), key=lambda t: CHAPTERS.index(t.chapter))
 

@@ -407,6 +407,23 @@ def sobel_gradient(image) -> tuple[np.ndarray, np.ndarray]:
     (as correlations; smoothing [1, 2, 1]/4 across, central difference [−1, 0, 1]/2
     along). A ramp of slope 1 gives exactly 1. Borders are mirrored. ``row`` points down.
 
+    Parameters
+    ----------
+    image : array_like, shape (H, W)
+        Grey values / Grauwerte g (any unit, e.g. DN), at least 3 × 3 pixels, finite.
+
+    Returns
+    -------
+    g_col : ndarray, shape (H, W)
+        ∂g/∂col, grey values per pixel, positive where the image gets brighter to the right.
+    g_row : ndarray, shape (H, W)
+        ∂g/∂row, grey values per pixel, positive where it gets brighter downwards.
+
+    Raises
+    ------
+    ValueError
+        If ``image`` is not a 2-D image of at least 3 × 3 pixels or holds NaN/inf.
+
     Examples
     --------
     >>> gc, gr = sobel_gradient(np.tile(np.arange(5.0), (4, 1)) * 3)

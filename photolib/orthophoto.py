@@ -359,8 +359,13 @@ def differential_rectification(image, camera: FrameCamera, model: DTM, out_shape
     camera : FrameCamera
     model : DTM
         DTM for an orthophoto, DSM for the grey values of a true orthophoto.
-    out_shape : (rows, cols); origin : (X0, Y0) of the top-left ortho pixel centre;
-    pixel_size : ortho pixel size (ground sampling distance), object units.
+    out_shape : tuple of int
+        ``(rows, cols)`` of the orthophoto.
+    origin : array_like, shape (2,)
+        Object coordinates (X0, Y0) of the centre of the top-left ortho pixel (object unit).
+    pixel_size : float
+        Ortho pixel size Δ / ground sampling distance (Bodenpixelgröße), object unit per pixel,
+        > 0: ``X = X0 + col·Δ``, ``Y = Y0 − row·Δ``.
     order : {0, 1}
         Resampling: nearest neighbour or bilinear.
     fill : float
@@ -373,6 +378,8 @@ def differential_rectification(image, camera: FrameCamera, model: DTM, out_shape
     Returns
     -------
     ndarray, shape out_shape (+ (C,))
+        Float grey values of the orthophoto (unit of ``image``); ``fill`` where the ground
+        point falls outside the source image.
 
     Notes
     -----
@@ -419,10 +426,44 @@ def visibility(camera: FrameCamera, dsm: DTM, out_shape, origin, pixel_size, *,
     in plan until it rises above the highest cell, at most ``MAX_RAY_STEPS`` (10⁶) samples
     per ray: a ``step`` that would need more raises ``ValueError``.
 
+    Parameters
+    ----------
+    camera : FrameCamera
+        The image; only its projection centre ``X0`` (object unit) enters.
+    dsm : DTM
+        Surface model (DSM / digitales Oberflächenmodell), heights in object unit; must cover
+        every ortho pixel. ``order=0`` for blocks with vertical walls (exact test).
+    out_shape : tuple of int
+        ``(rows, cols)`` of the orthophoto.
+    origin : array_like, shape (2,)
+        Object coordinates (X0, Y0) of the centre of the top-left ortho pixel (object unit).
+    pixel_size : float
+        Ortho pixel size Δ, object unit per pixel, > 0.
+    step : float, optional
+        Sampling interval along the ray in plan (object unit), > 0; default (None): exact cell
+        crossings for ``order=0``, a quarter of the DSM spacing otherwise.
+    tolerance : float
+        Height margin (object unit): the ray is below the surface only if
+        ``Z_ray < Z_DSM − tolerance``, so the surface point itself does not hide itself.
+
     Returns
     -------
     ndarray of bool, shape out_shape
         True where the ground is visible in the image.
+
+    Raises
+    ------
+    PointBehindCameraError
+        If a surface point is not below the projection centre.
+    OutsideModelError
+        If an ortho pixel lies outside the surface model.
+    ValueError
+        If ``step`` would need more than ``MAX_RAY_STEPS`` samples along a ray.
+
+    Notes
+    -----
+    .. math:: P(t) = P + t\,(X_0 - P),\quad 0 < t ≤ 1;\qquad
+              \text{occluded} \iff \exists t:\ Z_{P(t)} < Z_{DSM}(X_{P(t)}, Y_{P(t)}) - \text{tol}
 
     Examples
     --------
@@ -523,10 +564,40 @@ def true_orthophoto(image, camera: FrameCamera, dsm: DTM, out_shape, origin, pix
     on their footprints; pixels :func:`visibility` finds occluded get ``fill`` (NaN by
     default) instead of the grey value of the building in front of them.
 
+    Parameters
+    ----------
+    image : array_like, shape (H, W) or (H, W, C)
+        The source image; its size must be ``camera.height × camera.width``.
+    camera : FrameCamera
+        Exterior and interior orientation of the image (c, x'0, y'0 in mm).
+    dsm : DTM
+        Surface model (DSM / digitales Oberflächenmodell), heights in object unit; must cover
+        every ortho pixel.
+    out_shape : tuple of int
+        ``(rows, cols)`` of the orthophoto.
+    origin : array_like, shape (2,)
+        Object coordinates (X0, Y0) of the centre of the top-left ortho pixel (object unit).
+    pixel_size : float
+        Ortho pixel size Δ / ground sampling distance, object unit per pixel, > 0.
+    order : {0, 1}
+        Resampling: nearest neighbour or bilinear.
+    fill : float
+        Value of occluded ortho pixels and of those whose ground point falls outside the image.
+    **kwargs
+        ``step`` goes to :func:`visibility`; ``block_rows`` and ``progress`` to
+        :func:`differential_rectification`.
+
     Returns
     -------
     ortho : ndarray, shape out_shape (+ (C,))
+        Float grey values (unit of ``image``), ``fill`` where occluded.
     visible : ndarray of bool, shape out_shape
+        True where the ground is visible in the image (:func:`visibility`).
+
+    Notes
+    -----
+    .. math:: g_{true}(X, Y) = \\begin{cases} g_{ortho}(X, Y) & \\text{visible} \\\\
+              \\text{fill} & \\text{occluded} \\end{cases}
 
     Examples
     --------

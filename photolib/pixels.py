@@ -39,8 +39,19 @@ def image_from_pixel(colrow, width, height, pixel_size):
         (col, row) in pixels, sub-pixel allowed.
     width, height : int
         Image size W × H in pixels.
-    pixel_size : float or (2,)
-        Pixel spacing in mm (x, y).
+    pixel_size : float or array_like, shape (2,)
+        Pixel spacing / Pixelabstand ``(s_x, s_y)`` in mm per pixel, > 0; a scalar for square
+        pixels.
+
+    Returns
+    -------
+    xy : ndarray, shape (N, 2) or (2,)
+        Image coordinates (x', y') in mm, origin at the image centre, x' right, y' up; the
+        same rank as ``colrow``.
+
+    Notes
+    -----
+    .. math:: x' = (col - (W-1)/2)\\,s_x,\\qquad y' = ((H-1)/2 - row)\\,s_y
 
     Examples
     --------
@@ -57,6 +68,28 @@ def image_from_pixel(colrow, width, height, pixel_size):
 def pixel_from_image(xy, width, height, pixel_size):
     """Pixel positions (col, row) of image coordinates (mm); inverse of :func:`image_from_pixel`.
 
+    Parameters
+    ----------
+    xy : array_like, shape (N, 2) or (2,)
+        Image coordinates (x', y') in mm, origin at the image centre, x' right, y' up.
+    width, height : int
+        Image size W × H in pixels.
+    pixel_size : float or array_like, shape (2,)
+        Pixel spacing / Pixelabstand ``(s_x, s_y)`` in mm per pixel, > 0; a scalar for square
+        pixels.
+
+    Returns
+    -------
+    colrow : ndarray, shape (N, 2) or (2,)
+        (col, row) in pixels (sub-pixel), (0, 0) at the centre of the top-left pixel, row
+        downwards; the same rank as ``xy``.
+
+    Notes
+    -----
+    .. math:: col = x'/s_x + (W-1)/2,\\qquad row = (H-1)/2 - y'/s_y
+
+    Examples
+    --------
     >>> pixel_from_image([-0.01, 0.01], 3, 3, 0.01).round(12).tolist()
     [0.0, 0.0]
     """

@@ -99,6 +99,9 @@ def space_resection(X, xy, c, x0=0.0, y0=0.0, distortion=None, initial=None, *,
         Iteration limit. Reaching it raises ``ConvergenceError`` unless ``check=False``, which
         returns the last iterate with ``converged=False`` (NaN residuals for points behind
         its camera, NaN σ0/covariance where they are not defined).
+    check : bool
+        If True (default) no convergence within ``max_iter`` raises ``ConvergenceError``;
+        False returns the last iterate with ``converged=False`` instead.
 
     Returns
     -------

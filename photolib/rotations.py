@@ -85,6 +85,24 @@ def rotation_pok(omega, phi, kappa) -> np.ndarray:
 
     Same elementary rotations and angle units (radians) as :func:`rotation_opk`, other order.
 
+    Parameters
+    ----------
+    omega, phi, kappa : float or array_like
+        Secondary (about X), primary (about Y) and tertiary (about Z) angle, radians.
+        Arrays broadcast; the result then has shape ``(..., 3, 3)``.
+
+    Returns
+    -------
+    R : ndarray, shape (3, 3) or (..., 3, 3)
+        Rotation camera → object (dimensionless), ``X = X0 + m·R·x*``.
+
+    Notes
+    -----
+    .. math:: R = R_φ\\,R_ω\\,R_κ
+
+    with the elementary rotations ``R_ω`` (about X), ``R_φ`` (about Y), ``R_κ`` (about Z) of
+    :func:`rotation_opk`.
+
     Examples
     --------
     >>> R = rotation_pok(0.1, 0.2, 0.3)
@@ -113,6 +131,9 @@ def opk_from_rotation(R, *, split: str | None = None, atol: float = 1e-6):
     split : {None, 'kappa-zero', 'omega-zero'}
         At gimbal lock (|φ| = π/2) only ω ± κ is determined. ``None`` raises
         :class:`GimbalLockError`; otherwise the named angle is set to 0.
+    atol : float
+        Tolerance (dimensionless, on the matrix elements) of the check that R is orthonormal
+        with det +1; a looser check accepts e.g. a matrix read from a file with few digits.
 
     Returns
     -------
@@ -151,6 +172,28 @@ def pok_from_rotation(R, *, split: str | None = None, atol: float = 1e-6):
     ``ω = arcsin(−r23) ∈ [−π/2, π/2]``, ``φ = atan2(r13, r33)``, ``κ = atan2(r21, r22)``;
     gimbal lock at |ω| = π/2 is handled as in :func:`opk_from_rotation`.
 
+    Parameters
+    ----------
+    R : array_like, shape (3, 3)
+        Proper rotation matrix (orthonormal within ``atol``, det +1), camera → object.
+    split : {None, 'kappa-zero', 'omega-zero'}
+        At gimbal lock (|ω| = π/2) only φ ± κ is determined. ``None`` raises
+        :class:`GimbalLockError`; otherwise the named angle is set to 0.
+    atol : float
+        Tolerance (dimensionless, on the matrix elements) of the orthonormality check.
+
+    Returns
+    -------
+    omega : float in [−π/2, π/2]
+        Secondary angle about X, radians.
+    phi, kappa : float in (−π, π]
+        Primary angle about Y and tertiary angle about Z, radians.
+
+    Notes
+    -----
+    .. math:: ω = \\arcsin(-r_{23}),\\quad φ = \\operatorname{atan2}(r_{13}, r_{33}),
+              \\quad κ = \\operatorname{atan2}(r_{21}, r_{22})
+
     Examples
     --------
     >>> [round(float(a), 12) for a in pok_from_rotation(rotation_pok(0.1, -0.2, 0.3))]
@@ -176,6 +219,22 @@ def pok_from_rotation(R, *, split: str | None = None, atol: float = 1e-6):
 def wolf_m_from_rotation(R) -> np.ndarray:
     """Wolf's orientation matrix ``M = Rᵀ`` (object → image), from the course's R.
 
+    Parameters
+    ----------
+    R : array_like, shape (3, 3)
+        The course's rotation camera → object, ``R = R_ω·R_φ·R_κ`` (:func:`rotation_opk`).
+
+    Returns
+    -------
+    M : ndarray, shape (3, 3)
+        Wolf's rotation object → image (dimensionless), ``x* ∝ M·(X − X0)``.
+
+    Notes
+    -----
+    .. math:: M = R^T
+
+    Examples
+    --------
     >>> bool(np.allclose(wolf_m_from_rotation(rotation_opk(0.1, 0.2, 0.3)) @ rotation_opk(0.1, 0.2, 0.3), np.eye(3)))
     True
     """
@@ -185,6 +244,25 @@ def wolf_m_from_rotation(R) -> np.ndarray:
 def rotation_from_wolf_m(M) -> np.ndarray:
     """The course's ``R = Mᵀ`` from Wolf's orientation matrix M.
 
+    Parameters
+    ----------
+    M : array_like, shape (3, 3)
+        Wolf's orientation matrix, object → image (proper rotation).
+
+    Returns
+    -------
+    R : ndarray, shape (3, 3)
+        The course's rotation camera → object (dimensionless), ``X = X0 + m·R·x*``.
+
+    Notes
+    -----
+    .. math:: R = M^T
+
+    Examples
+    --------
+    >>> M = wolf_m_from_rotation(rotation_opk(0.0, 0.0, 0.5))
+    >>> [round(float(a), 12) for a in opk_from_rotation(rotation_from_wolf_m(M))]
+    [0.0, 0.0, 0.5]
     >>> bool(np.allclose(rotation_from_wolf_m(wolf_m_from_rotation(np.eye(3))), np.eye(3)))
     True
     """
@@ -194,8 +272,24 @@ def rotation_from_wolf_m(M) -> np.ndarray:
 def rotation_2d(alpha) -> np.ndarray:
     """Plane rotation by ``alpha`` (radians, counter-clockwise with x right and y up).
 
+    Parameters
+    ----------
+    alpha : float or array_like
+        Rotation angle in radians, positive counter-clockwise (x right, y up). An array gives
+        one matrix per angle.
+
+    Returns
+    -------
+    R : ndarray, shape (2, 2) or (..., 2, 2)
+        Active rotation matrix (dimensionless): ``R @ p`` turns the point p by α about the
+        origin.
+
+    Notes
+    -----
     .. math:: R(α) = \\begin{pmatrix} \\cos α & -\\sin α \\\\ \\sin α & \\cos α \\end{pmatrix}
 
+    Examples
+    --------
     >>> np.round(rotation_2d(np.pi / 2) @ [1.0, 0.0], 12) + 0.0
     array([0., 1.])
     """
@@ -212,6 +306,26 @@ def opencv_pose_from_exterior(X0, R):
     OpenCV's camera looks along +z with y down: ``R_cv = diag(1, −1, −1)·Rᵀ``,
     ``t = −R_cv·X0``, so that ``x_cam = R_cv·X + t``.
 
+    Parameters
+    ----------
+    X0 : array_like, shape (3,)
+        Projection centre / Projektionszentrum (object unit, e.g. m).
+    R : array_like, shape (3, 3)
+        The course's rotation camera → object, ``R = R_ω·R_φ·R_κ`` (:func:`rotation_opk`).
+
+    Returns
+    -------
+    R_cv : ndarray, shape (3, 3)
+        OpenCV's rotation object → camera (dimensionless; ``cv2.Rodrigues`` turns it into rvec).
+    t : ndarray, shape (3,)
+        OpenCV's translation (tvec), object unit: the object origin in camera coordinates.
+
+    Notes
+    -----
+    .. math:: R_{cv} = \\operatorname{diag}(1, -1, -1)\\,R^T,\\qquad t = -R_{cv}\\,X_0
+
+    Examples
+    --------
     >>> Rcv, t = opencv_pose_from_exterior([0.0, 0.0, 10.0], np.eye(3))
     >>> (Rcv @ [0.0, 0.0, 0.0] + t).tolist()
     [0.0, 0.0, 10.0]
@@ -225,6 +339,27 @@ def opencv_pose_from_exterior(X0, R):
 def exterior_from_opencv_pose(R_cv, t):
     """Inverse of :func:`opencv_pose_from_exterior`: ``(X0, R)``.
 
+    Parameters
+    ----------
+    R_cv : array_like, shape (3, 3)
+        OpenCV's rotation object → camera (camera looks along +z, y down), e.g. from
+        ``cv2.Rodrigues(rvec)``.
+    t : array_like, shape (3,)
+        OpenCV's translation (tvec), object unit, ``x_cam = R_cv·X + t``.
+
+    Returns
+    -------
+    X0 : ndarray, shape (3,)
+        Projection centre / Projektionszentrum (object unit).
+    R : ndarray, shape (3, 3)
+        The course's rotation camera → object, ``R = R_ω·R_φ·R_κ``.
+
+    Notes
+    -----
+    .. math:: X_0 = -R_{cv}^T\\,t,\\qquad R = (\\operatorname{diag}(1, -1, -1)\\,R_{cv})^T
+
+    Examples
+    --------
     >>> X0, R = exterior_from_opencv_pose(*opencv_pose_from_exterior([1.0, 2.0, 3.0], rotation_opk(0.1, 0.2, 0.3)))
     >>> np.round(X0, 12).tolist()
     [1.0, 2.0, 3.0]

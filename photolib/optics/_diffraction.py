@@ -35,9 +35,14 @@ def bessel_jn(n: int, x):
     Parameters
     ----------
     n : int
-        Order, ≥ 0.
-    x : float or array_like
-        Argument, finite.
+        Order n, an integer ≥ 0 (0 and 1 for the Airy pattern).
+    x : float or array_like, any shape
+        Argument, dimensionless, finite (for the Airy pattern ``v = π·r/(λ·k)``).
+
+    Returns
+    -------
+    float or ndarray
+        J_n(x), dimensionless, same shape as ``x`` (a float for scalar ``x``).
 
     Examples
     --------
@@ -45,6 +50,8 @@ def bessel_jn(n: int, x):
     0.0
     >>> round(bessel_jn(0, 0.0), 12)
     1.0
+    >>> np.round(bessel_jn(0, [0.0, 1.0]), 6).tolist()   # tables: J0(1) = 0.765198
+    [1.0, 0.765198]
     """
     if int(n) != n or n < 0:
         raise ValueError(f"order n must be an integer >= 0, got {n!r}")
@@ -65,12 +72,33 @@ def bessel_jn(n: int, x):
 def airy_radius(wavelength, k):
     """Radius of the Airy disk (Beugungsscheibchen): the first dark ring, same unit as λ.
 
+    Parameters
+    ----------
+    wavelength : float or array_like
+        Wavelength λ (Wellenlänge), > 0, finite; any length unit, the result has it
+        (µm in the course: 0.55 for 550 nm).
+    k : float or array_like
+        f-number k = f/d (Blendenzahl), dimensionless, > 0, finite; broadcasts with
+        ``wavelength``.
+
+    Returns
+    -------
+    float or ndarray
+        Airy radius r_A in the image plane, unit of ``wavelength``; the broadcast shape of the
+        inputs (a float for scalars).
+
+    Notes
+    -----
     .. math:: r_A = \\frac{j_{1,1}}{\\pi}\\,\\lambda k \\approx 1.22\\,\\lambda k
 
     with j₁,₁ = 3.8317 the first zero of J1 (the 1.22 is rounded: 1.21967).
 
+    Examples
+    --------
     >>> round(airy_radius(0.55, 8.0), 4)   # µm for λ = 550 nm at f/8
     5.3665
+    >>> round(airy_radius(0.55, 2.8), 4)   # µm at f/2.8
+    1.8783
     """
     lam = _finite(_array(wavelength, "wavelength", positive=True), "wavelength")
     k = _finite(_array(k, "f-number k", positive=True), "f-number k")
@@ -89,13 +117,35 @@ def airy_psf(r, wavelength, k):
 
     Fraunhofer diffraction at a circular pupil; ``r`` and ``wavelength`` in one unit.
 
+    Parameters
+    ----------
+    r : float or array_like
+        Radial distance from the centre of the pattern in the image plane, finite, same unit
+        as ``wavelength`` (µm in the course); the sign is ignored (|r| is used).
+    wavelength : float or array_like
+        Wavelength λ (Wellenlänge), > 0, finite.
+    k : float or array_like
+        f-number k = f/d (Blendenzahl), dimensionless, > 0, finite.
+
+    Returns
+    -------
+    float or ndarray
+        Relative intensity I(r)/I(0), dimensionless in [0, 1], 1 at the centre and 0 on the
+        dark rings; the broadcast shape of the inputs (a float for scalars).
+
+    Notes
+    -----
     .. math:: \\frac{I(r)}{I_0} = \\left(\\frac{2 J_1(v)}{v}\\right)^2, \\qquad
               v = \\frac{\\pi r}{\\lambda k}
 
+    Examples
+    --------
     >>> airy_psf(0.0, 0.55, 8.0)
     1.0
     >>> round(airy_psf(airy_radius(0.55, 8.0), 0.55, 8.0), 12)
     0.0
+    >>> np.round(airy_psf([0.0, 2.0], 0.55, 8.0), 4).tolist()   # µm: 2 µm off the centre
+    [1.0, 0.5865]
     """
     v = _airy_v(r, wavelength, k)
     safe = np.where(v == 0.0, 1.0, v)
@@ -105,10 +155,32 @@ def airy_psf(r, wavelength, k):
 def airy_encircled_energy(r, wavelength, k):
     """Fraction of the light of the Airy pattern inside the radius ``r`` (Rayleigh).
 
+    Parameters
+    ----------
+    r : float or array_like
+        Radius of the circle about the centre of the pattern in the image plane, finite,
+        same unit as ``wavelength`` (µm in the course); the sign is ignored.
+    wavelength : float or array_like
+        Wavelength λ (Wellenlänge), > 0, finite.
+    k : float or array_like
+        f-number k = f/d (Blendenzahl), dimensionless, > 0, finite.
+
+    Returns
+    -------
+    float or ndarray
+        Encircled energy E(r), the dimensionless fraction of the total light in [0, 1];
+        the broadcast shape of the inputs (a float for scalars).
+
+    Notes
+    -----
     .. math:: E(r) = 1 - J_0(v)^2 - J_1(v)^2, \\qquad v = \\frac{\\pi r}{\\lambda k}
 
-    >>> round(airy_encircled_energy(airy_radius(0.55, 8.0), 0.55, 8.0), 4)
+    Examples
+    --------
+    >>> round(airy_encircled_energy(airy_radius(0.55, 8.0), 0.55, 8.0), 4)   # Airy disk: 84 %
     0.8378
+    >>> round(airy_encircled_energy(1000.0, 0.55, 8.0), 3)   # µm: 1 mm holds nearly all
+    0.999
     """
     v = _airy_v(r, wavelength, k)
     return _out(1.0 - np.asarray(bessel_jn(0, v)) ** 2 - np.asarray(bessel_jn(1, v)) ** 2)

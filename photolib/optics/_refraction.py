@@ -40,6 +40,22 @@ class TotalInternalReflectionError(ValueError):
 def refraction_angle(alpha, n1, n2):
     """Angle of refraction β from Snell's law n1·sin α = n2·sin β, radians.
 
+    Parameters
+    ----------
+    alpha : float or array_like
+        Angle of incidence α (Einfallswinkel) against the surface normal, rad, finite,
+        |α| ≤ π/2.
+    n1 : float or array_like
+        Refractive index (Brechzahl) of the medium the ray comes from, dimensionless, > 0.
+    n2 : float or array_like
+        Refractive index of the medium the ray enters, dimensionless, > 0.
+
+    Returns
+    -------
+    float or ndarray
+        Angle of refraction β (Brechungswinkel) against the normal, rad, in [−π/2, π/2] with
+        the sign of α; the broadcast shape of the inputs (a float for scalars).
+
     Raises
     ------
     TotalInternalReflectionError
@@ -49,8 +65,12 @@ def refraction_angle(alpha, n1, n2):
     -----
     .. math:: \\beta = \\arcsin\\left(\\frac{n_1}{n_2}\\sin\\alpha\\right)
 
+    Examples
+    --------
     >>> round(float(np.degrees(refraction_angle(np.radians(30.0), 1.0, 1.5))), 4)
     19.4712
+    >>> np.degrees(refraction_angle(np.radians([0.0, 30.0]), 1.0, 1.333)).round(4).tolist()
+    [0.0, 22.0301]
     """
     alpha = _finite(_array(alpha, "angle of incidence alpha"), "angle of incidence alpha")
     if np.any(np.abs(alpha) > np.pi / 2):
@@ -67,8 +87,35 @@ def refraction_angle(alpha, n1, n2):
 def critical_angle(n1, n2):
     """Critical angle of total internal reflection (Grenzwinkel), n1 > n2: sin α_c = n2/n1.
 
+    Parameters
+    ----------
+    n1 : float or array_like
+        Refractive index (Brechzahl) of the optically denser medium the ray comes from,
+        dimensionless, > n2.
+    n2 : float or array_like
+        Refractive index of the optically thinner medium beyond the surface, > 0.
+
+    Returns
+    -------
+    float or ndarray
+        Critical angle α_c against the surface normal, rad, in (0, π/2); rays with α > α_c
+        are totally reflected. The broadcast shape of the inputs (a float for scalars).
+
+    Raises
+    ------
+    ValueError
+        If n1 ≤ n2 (no total internal reflection).
+
+    Notes
+    -----
+    .. math:: \\alpha_c = \\arcsin\\frac{n_2}{n_1}
+
+    Examples
+    --------
     >>> round(float(np.degrees(critical_angle(1.5, 1.0))), 4)
     41.8103
+    >>> round(float(np.degrees(critical_angle(1.333, 1.0))), 4)   # water → air
+    48.6066
     """
     n1 = _finite(_array(n1, "refractive index n1", positive=True), "refractive index n1")
     n2 = _finite(_array(n2, "refractive index n2", positive=True), "refractive index n2")
@@ -98,13 +145,31 @@ def _directions(d, normal):
 def reflect(d, normal):
     """Direction of a specularly reflected ray (law of reflection α = β).
 
+    Parameters
+    ----------
+    d : array_like, shape (N, 3) or (3,)
+        Incoming ray directions, dimensionless, nonzero (normalised here).
+    normal : array_like, shape (N, 3) or (3,)
+        Surface normal, nonzero, either side of the surface (normalised here); one normal
+        (3,) serves all rays.
+
+    Returns
+    -------
+    ndarray, shape (N, 3) or (3,)
+        Unit directions of the reflected rays, the rank of ``d``.
+
+    Notes
+    -----
+    Both vectors normalised:
+
     .. math:: \\mathbf r = \\mathbf d - 2(\\mathbf d\\cdot\\mathbf n)\\,\\mathbf n
 
-    ``d`` (N, 3) or (3,), the incoming directions, ``normal`` the surface normal (either
-    side); both are normalised. Returns unit vectors of the same shape as ``d``.
-
+    Examples
+    --------
     >>> reflect([1.0, 0.0, -1.0], [0.0, 0.0, 1.0]).round(6).tolist()
     [0.707107, 0.0, 0.707107]
+    >>> reflect([[1.0, 0.0, -1.0], [0.0, 0.0, -2.0]], [0.0, 0.0, -1.0]).round(6).tolist()
+    [[0.707107, 0.0, 0.707107], [0.0, 0.0, 1.0]]
     """
     d, nrm, cos_i, single = _directions(d, normal)
     r = d + 2.0 * cos_i[:, None] * nrm
@@ -179,6 +244,17 @@ def refractive_index(wavelength_um, glass="N-BK7"):
     glass : str or tuple
         A key of :data:`GLASSES` or six coefficients (B1, B2, B3, C1, C2, C3), C in µm².
 
+    Returns
+    -------
+    float or ndarray
+        Refractive index n(λ) (Brechzahl), dimensionless, ≥ 1; shape of ``wavelength_um``
+        (a float for a scalar).
+
+    Raises
+    ------
+    ValueError
+        For an unknown glass, not six coefficients, or a wavelength at an absorption pole.
+
     Notes
     -----
     .. math:: n^2(\\lambda) = 1 + \\sum_{i=1}^{3} \\frac{B_i\\lambda^2}{\\lambda^2 - C_i}
@@ -187,6 +263,8 @@ def refractive_index(wavelength_um, glass="N-BK7"):
     --------
     >>> round(refractive_index(0.5875618), 5)   # N-BK7 at the d line: catalogue 1.51680
     1.5168
+    >>> np.round(refractive_index([F_LINE, C_LINE]), 5).tolist()   # catalogue n_F, n_C
+    [1.52238, 1.51432]
     """
     lam = _finite(_array(wavelength_um, "wavelength_um", positive=True), "wavelength_um")
     if isinstance(glass, str):
@@ -208,8 +286,30 @@ def refractive_index(wavelength_um, glass="N-BK7"):
 def abbe_number(glass="N-BK7"):
     """Abbe number V_d = (n_d − 1)/(n_F − n_C) (Abbesche Zahl) of a glass.
 
+    Parameters
+    ----------
+    glass : str or tuple
+        A key of :data:`GLASSES` or six Sellmeier coefficients (B1, B2, B3, C1, C2, C3),
+        C in µm²; see :func:`refractive_index`.
+
+    Returns
+    -------
+    float
+        V_d, dimensionless; large for low dispersion (crown glass), small for flint glass.
+
+    Notes
+    -----
+    With the Fraunhofer lines d, F, C (:data:`D_LINE`, :data:`F_LINE`, :data:`C_LINE`,
+    587.56, 486.13 and 656.27 nm):
+
+    .. math:: V_d = \\frac{n_d - 1}{n_F - n_C}
+
+    Examples
+    --------
     >>> round(abbe_number("N-BK7"), 2)   # catalogue 64.17
     64.17
+    >>> round(abbe_number("N-SF11"), 2)   # a dense flint: catalogue 25.68
+    25.68
     """
     nd, nF, nC = (refractive_index(w, glass) for w in (D_LINE, F_LINE, C_LINE))
     return (nd - 1.0) / (nF - nC)
@@ -225,16 +325,31 @@ def chromatic_focal_shift(f_ref, wavelength_um, reference_um=D_LINE, glass="N-BK
     Parameters
     ----------
     f_ref : float
-        Focal length at ``reference_um``, > 0 (any unit; the result has it).
+        Focal length (Brennweite) at ``reference_um``, > 0, finite (any unit, mm in the
+        course; the result has it).
     wavelength_um, reference_um : float or array_like
-        Wavelengths in µm.
+        Vacuum wavelengths λ and λ_ref in µm (0.55 for 550 nm); λ_ref defaults to the d line.
     glass : str or tuple
         See :func:`refractive_index`.
+
+    Returns
+    -------
+    float or ndarray
+        Focal shift f(λ) − f(λ_ref) in the unit of ``f_ref``, shape of ``wavelength_um``;
+        positive (a longer focal length) for red light with normal dispersion.
+
+    Notes
+    -----
+    .. math:: \\Delta f(\\lambda) = f(\\lambda) - f_\\mathrm{ref}
+              = f_\\mathrm{ref}\\left(\\frac{n(\\lambda_\\mathrm{ref}) - 1}{n(\\lambda) - 1}
+              - 1\\right)
 
     Examples
     --------
     >>> round(chromatic_focal_shift(50.0, C_LINE) - chromatic_focal_shift(50.0, F_LINE), 4)
     0.7746
+    >>> round(chromatic_focal_shift(50.0, D_LINE), 12)   # at the reference wavelength
+    0.0
     """
     f = _finite(_array(f_ref, "focal length f_ref", positive=True), "f_ref")
     n = np.asarray(refractive_index(wavelength_um, glass))

@@ -117,10 +117,30 @@ def half_field_angle(format_extent, c):
     ``format_extent`` s' is the side or the diagonal of the format, ``c`` the camera constant
     (same unit); the full angle is 2Ω (errata record ``de-summary:field-angle``).
 
+    Parameters
+    ----------
+    format_extent : float or array_like
+        Image format extent s' (Bildformat): a side or the diagonal, > 0, finite, image
+        unit (mm in the course).
+    c : float or array_like
+        Camera constant c (Kamerakonstante), > 0, finite, same unit as ``format_extent``.
+
+    Returns
+    -------
+    float or ndarray
+        Half field angle Ω, rad, in (0, π/2); the broadcast shape of the inputs (a float for
+        scalars).
+
+    Notes
+    -----
     .. math:: \\Omega = \\arctan\\frac{s'}{2c}
 
+    Examples
+    --------
     >>> round(float(np.degrees(2 * half_field_angle(np.hypot(36.0, 24.0), 50.0))), 2)
     46.79
+    >>> round(float(np.degrees(half_field_angle(36.0, 50.0))), 4)   # along the 36 mm side
+    19.7989
     """
     s = _finite(_array(format_extent, "format extent s'", positive=True), "format extent s'")
     c = _finite(_array(c, "camera constant c", positive=True), "camera constant c")
@@ -132,10 +152,29 @@ def half_aperture_angle(d, f):
 
     For an object at infinity (image at f); record ``de-summary:aperture-angle``.
 
+    Parameters
+    ----------
+    d : float or array_like
+        Pupil diameter d' (Pupillendurchmesser), > 0, finite, mm in the course.
+    f : float or array_like
+        Focal length f (Brennweite), > 0, finite, same unit as ``d``.
+
+    Returns
+    -------
+    float or ndarray
+        Half aperture angle α, rad, in (0, π/2); the full cone is 2α. The broadcast shape of
+        the inputs (a float for scalars).
+
+    Notes
+    -----
     .. math:: \\alpha = \\arctan\\frac{d'}{2f}
 
+    Examples
+    --------
     >>> round(float(np.degrees(half_aperture_angle(25.0, 50.0))), 4)
     14.0362
+    >>> round(float(np.degrees(2 * half_aperture_angle(25.0, 50.0))), 4)   # full angle at f/2
+    28.0725
     """
     d = _finite(_array(d, "pupil diameter d'", positive=True), "pupil diameter d'")
     f = _finite(_array(f, "focal length f", positive=True), "focal length f")
@@ -145,10 +184,28 @@ def half_aperture_angle(d, f):
 def f_number(f, d):
     """f-number k = f/d (Blendenzahl), the reciprocal of the relative aperture d/f.
 
+    Parameters
+    ----------
+    f : float or array_like
+        Focal length f (Brennweite), > 0, finite, mm in the course.
+    d : float or array_like
+        Diameter d of the entrance pupil (Eintrittspupille), > 0, finite, same unit as ``f``.
+
+    Returns
+    -------
+    float or ndarray
+        f-number k, dimensionless; the broadcast shape of the inputs (a float for scalars).
+
+    Notes
+    -----
     .. math:: k = \\frac{f}{d}
 
+    Examples
+    --------
     >>> f_number(50.0, 12.5)
     4.0
+    >>> f_number(50.0, np.array([25.0, 12.5])).tolist()   # mm: f/2 and f/4
+    [2.0, 4.0]
     """
     f = _finite(_array(f, "focal length f", positive=True), "focal length f")
     d = _finite(_array(d, "pupil diameter d", positive=True), "pupil diameter d")
@@ -169,6 +226,33 @@ def blur_diameter(a_x, a, f, k):
 
     The light cone of pupil d = f/k converges at a'_x; the sensor sits at a'.
 
+    Parameters
+    ----------
+    a_x : float or array_like
+        Object distance a_x (Gegenstandsweite) of the point imaged, > f; ``inf`` allowed.
+        Length unit of ``f`` (mm in the course).
+    a : float or array_like
+        Focus distance a (Einstellentfernung), > f; ``inf`` allowed; same unit.
+    f : float or array_like
+        Focal length f (Brennweite), > 0, finite, same unit.
+    k : float or array_like
+        f-number k (Blendenzahl), dimensionless, > 0, finite.
+
+    Returns
+    -------
+    float or ndarray
+        Blur diameter u' in the image plane, unit of ``f``, ≥ 0 (0 for a point in focus);
+        the broadcast shape of the inputs (a float for scalars).
+
+    Raises
+    ------
+    NoRealImageError
+        If ``a_x`` or ``a`` is not beyond the focal length.
+
+    Notes
+    -----
+    With the image distances a'_x, a' from :func:`image_distance`:
+
     .. math:: u' = \\frac{f}{k}\\,\\frac{|a'_x - a'|}{a'_x}
 
     Examples
@@ -177,6 +261,8 @@ def blur_diameter(a_x, a, f, k):
     0.0
     >>> round(blur_diameter(np.inf, 5000.0, 50.0, 8.0), 6)   # mm
     0.063131
+    >>> round(blur_diameter(3389.371, 5000.0, 50.0, 8.0), 4)   # the near limit: u' = 0.03 mm
+    0.03
     """
     k = _finite(_array(k, "f-number k", positive=True), "f-number k")
     apx = np.asarray(image_distance(a_x, f))
@@ -187,10 +273,33 @@ def blur_diameter(a_x, a, f, k):
 def hyperfocal_distance(f, k, u):
     """Hyperfocal distance H: focused there, the depth of field reaches infinity.
 
+    Parameters
+    ----------
+    f : float or array_like
+        Focal length f (Brennweite), > 0, finite, mm in the course.
+    k : float or array_like
+        f-number k (Blendenzahl), dimensionless, > 0, finite.
+    u : float or array_like
+        Permissible blur diameter u' in the image (circle of confusion, Zerstreuungskreis),
+        > 0, finite, same unit as ``f``; the lecture summary uses u' = s'/1500.
+
+    Returns
+    -------
+    float or ndarray
+        Hyperfocal distance H (object distance from the lens), unit of ``f``; focused on H
+        the depth of field (Schärfentiefe) reaches from H/2 to infinity. The broadcast
+        shape of the inputs (a float for scalars).
+
+    Notes
+    -----
     .. math:: H = f + \\frac{f^2}{k\\,u'}
 
+    Examples
+    --------
     >>> hyperfocal_distance(50.0, 8.0, 0.03)   # mm
     10466.666666666668
+    >>> round(hyperfocal_distance(50.0, 2.8, 0.03), 3)   # mm: opened up to f/2.8
+    29811.905
     """
     f, k, u = _dof_inputs(f, k, u)
     return _out(f + f**2 / (k * u))

@@ -34,9 +34,31 @@ def _pattern(pattern: str) -> tuple:
 def bayer_masks(shape, pattern: str = "RGGB") -> np.ndarray:
     """Boolean masks (3, H, W): which pixel carries the R, G or B filter.
 
+    Parameters
+    ----------
+    shape : tuple of int
+        Image size (H, W) in pixels (rows, columns), H, W ≥ 2.
+    pattern : str
+        Bayer pattern, the colours of the top-left 2 × 2 block row by row: ``"RGGB"``,
+        ``"BGGR"``, ``"GRBG"`` or ``"GBRG"`` (case-insensitive).
+
+    Returns
+    -------
+    ndarray of bool, shape (3, H, W)
+        ``masks[k]`` is True where the pixel's filter has colour k (0 R, 1 G, 2 B); every
+        pixel is in exactly one mask.
+
+    Notes
+    -----
+    .. math:: m_k(r, c) = \\left[\\text{pattern}[r \\bmod 2][c \\bmod 2] = k\\right]
+
+    Examples
+    --------
     >>> m = bayer_masks((4, 4))
     >>> m.sum(axis=(1, 2)).tolist()   # a quarter red, half green, a quarter blue
     [4, 8, 4]
+    >>> bayer_masks((2, 2), "GRBG").argmax(axis=0).tolist()   # colour index per pixel
+    [[1, 0], [2, 1]]
     """
     cells = _pattern(pattern)
     if len(shape) != 2 or min(shape) < 2:

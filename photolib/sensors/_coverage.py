@@ -31,8 +31,28 @@ def image_scale_number(c, distance) -> np.ndarray | float:
     The camera constant is the image distance here; :func:`photolib.optics.image_scale_number`
     is the thin-lens form a/a' with a' from the imaging equation.
 
+    Parameters
+    ----------
+    c : float
+        Camera constant c (Kamerakonstante), > 0, in the unit of ``distance`` (m).
+    distance : float or array_like
+        Flying height above ground H, or object distance, > 0 (m).
+
+    Returns
+    -------
+    float or ndarray
+        Image scale number m_b, dimensionless; shape of ``distance`` (a float for a scalar).
+
+    Notes
+    -----
+    .. math:: m_b = \\frac{H}{c}
+
+    Examples
+    --------
     >>> image_scale_number(0.15, 1500.0)
     10000.0
+    >>> image_scale_number(0.05, np.array([500.0, 1000.0])).tolist()   # c = 50 mm
+    [10000.0, 20000.0]
     """
     c = as_scalar(c, "c", positive=True)
     h = _array(distance, "distance", positive=True)
@@ -197,7 +217,28 @@ def line_rate(speed, gsd) -> float:
     A pushbroom scanner records one line per GSD of forward motion; slower reading stretches
     the ground pixels along the track.
 
+    Parameters
+    ----------
+    speed : float
+        Ground speed v of the platform, object unit per second (m/s), > 0.
+    gsd : float
+        Ground sampling distance along the track, object unit (m), > 0
+        (:func:`ground_sampling_distance`).
+
+    Returns
+    -------
+    float
+        Line rate in lines per second (Hz).
+
+    Notes
+    -----
+    .. math:: f_{line} = \\frac{v}{GSD}
+
+    Examples
+    --------
     >>> line_rate(70.0, 0.1)
     700.0
+    >>> round(line_rate(250.0 / 3.6, 0.05), 3)   # 250 km/h at a 5 cm GSD
+    1388.889
     """
     return as_scalar(speed, "speed", positive=True) / as_scalar(gsd, "gsd", positive=True)

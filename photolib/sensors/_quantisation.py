@@ -38,8 +38,31 @@ def grey_levels(bits) -> int:
     The German summary's "n bits give 2^n grey values" (errata record ``de-summary:bit-depth``,
     verdict right).
 
+    Parameters
+    ----------
+    bits : int
+        Bit depth b (Bittiefe, radiometric resolution), an integer 1 … 32, bit.
+
+    Returns
+    -------
+    int
+        Number of grey values n = 2^b, the digital numbers DN = 0 … 2^b − 1.
+
+    Raises
+    ------
+    ValueError
+        If ``bits`` is not an integer 1 … 32.
+
+    Notes
+    -----
+    .. math:: n = 2^b
+
+    Examples
+    --------
     >>> grey_levels(8), grey_levels(12)
     (256, 4096)
+    >>> grey_levels(1), grey_levels(16)   # a binary image; a 16-bit image
+    (2, 65536)
     """
     return 2 ** _bits(bits)
 
@@ -47,8 +70,31 @@ def grey_levels(bits) -> int:
 def bits_for_levels(levels) -> int:
     """Smallest bit depth b with :math:`2^b ≥` ``levels``: :math:`b = ⌈\\log_2 n⌉`.
 
+    Parameters
+    ----------
+    levels : int
+        Number n of grey values (or distinguishable signal levels) to store, an integer ≥ 2.
+
+    Returns
+    -------
+    int
+        Bit depth b, bit: the smallest integer with 2^b ≥ n.
+
+    Raises
+    ------
+    ValueError
+        If ``levels`` is not an integer ≥ 2.
+
+    Notes
+    -----
+    .. math:: b = \\lceil \\log_2 n \\rceil
+
+    Examples
+    --------
     >>> bits_for_levels(256), bits_for_levels(257), bits_for_levels(2)
     (8, 9, 1)
+    >>> bits_for_levels(1000)   # 1000 levels need 10 bits (1024)
+    10
     """
     if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or levels < 2:
         raise ValueError(f"levels must be an integer ≥ 2, got {levels!r}")
@@ -63,10 +109,24 @@ def quantisation_step(bits, full_scale: float = 1.0) -> float:
     bits : int
         Bit depth b ≥ 1.
     full_scale : float
-        Signal that maps to the largest DN, :math:`2^b − 1` (any unit; > 0).
+        Signal that maps to the largest DN, :math:`2^b − 1` (any unit; > 0), e.g. the full
+        well in e⁻, a voltage in V, or 1.0 for a normalised signal.
 
+    Returns
+    -------
+    float
+        Quantisation step Δ (Quantisierungsstufe), unit of ``full_scale`` per DN.
+
+    Notes
+    -----
+    .. math:: Δ = \\frac{s_{max}}{2^b - 1}
+
+    Examples
+    --------
     >>> quantisation_step(8, 255.0)
     1.0
+    >>> quantisation_step(2)   # a normalised signal on 4 levels 0, 1/3, 2/3, 1
+    0.3333333333333333
     """
     return as_scalar(full_scale, "full_scale", positive=True) / (grey_levels(bits) - 1)
 
@@ -102,8 +162,35 @@ def quantise(signal, bits, full_scale: float = 1.0) -> np.ndarray:
 def dequantise(dn, bits, full_scale: float = 1.0) -> np.ndarray:
     """Signal values of digital numbers: :math:`s = DN·Δ` (inverse of :func:`quantise`).
 
+    Parameters
+    ----------
+    dn : array_like, any shape
+        Digital numbers DN (Grauwerte), integers 0 … 2^b − 1.
+    bits : int
+        Bit depth b, 1 … 32.
+    full_scale : float
+        Signal of the largest DN, > 0 (any unit; the result has it).
+
+    Returns
+    -------
+    ndarray of float, same shape as ``dn``
+        Signal values s at the centres of the quantisation levels, unit of ``full_scale``.
+
+    Raises
+    ------
+    ValueError
+        If a value of ``dn`` is not an integer in 0 … 2^b − 1.
+
+    Notes
+    -----
+    .. math:: s = DN·Δ,\\quad Δ = \\frac{s_{max}}{2^b - 1}
+
+    Examples
+    --------
     >>> dequantise([0, 1, 3], 2).round(6).tolist()
     [0.0, 0.333333, 1.0]
+    >>> dequantise([0, 128, 255], 8, 255.0).tolist()   # Δ = 1
+    [0.0, 128.0, 255.0]
     """
     step = quantisation_step(bits, full_scale)
     d = _array(dn, "dn")
@@ -115,10 +202,28 @@ def dequantise(dn, bits, full_scale: float = 1.0) -> np.ndarray:
 def quantisation_noise_variance(step) -> np.ndarray | float:
     """Variance of the rounding error, uniform on [−Δ/2, Δ/2]: :math:`σ_q^2 = Δ^2/12`.
 
+    Parameters
+    ----------
+    step : float or array_like
+        Quantisation step Δ, > 0, in the unit of the signal: 1 for DN, the gain K for e⁻
+        (:func:`quantisation_step`, :func:`gain_e_per_dn`).
+
+    Returns
+    -------
+    float or ndarray
+        Variance σ_q² in the squared unit of ``step`` (DN², e⁻²); shape of ``step`` (a float
+        for a scalar).
+
+    Notes
+    -----
     .. math:: σ_q^2 = \\frac{1}{Δ}\\int_{-Δ/2}^{Δ/2} e^2\\,de = \\frac{Δ^2}{12}
 
+    Examples
+    --------
     >>> quantisation_noise_variance(1.0) == 1 / 12
     True
+    >>> quantisation_noise_variance(10.0)   # K = 10 e⁻/DN: σ_q² in e⁻², σ_q ≈ 2.9 e⁻
+    8.333333333333334
     """
     d = _array(step, "step", positive=True)
     out = d**2 / 12.0
@@ -132,8 +237,28 @@ def gain_e_per_dn(full_well_e, bits) -> float:
 
     The German summary's "Gain: number of photons (electrons) that define one grey level".
 
+    Parameters
+    ----------
+    full_well_e : float
+        Full-well capacity FW (Fassungsvermögen), electrons e⁻, > 0.
+    bits : int
+        Bit depth b of the analogue-to-digital converter, 1 … 32.
+
+    Returns
+    -------
+    float
+        System gain K, e⁻/DN.
+
+    Notes
+    -----
+    .. math:: K = \\frac{FW}{2^b - 1}
+
+    Examples
+    --------
     >>> round(gain_e_per_dn(40950.0, 12), 6)
     10.0
+    >>> round(gain_e_per_dn(20000.0, 14), 4)   # e⁻/DN: a 14-bit ADC on a 20 000 e⁻ well
+    1.2208
     """
     fw = as_scalar(full_well_e, "full_well_e", positive=True)
     return fw / (grey_levels(bits) - 1)
@@ -177,8 +302,26 @@ def dynamic_range(full_well_e, read_noise_e) -> DynamicRange:
 def decibels(ratio) -> np.ndarray | float:
     """An amplitude ratio in decibels: :math:`20\\log_{10}(ratio)`.
 
+    Parameters
+    ----------
+    ratio : float or array_like
+        Ratio of amplitudes (an SNR or a dynamic range FW/σ_r), dimensionless, > 0.
+
+    Returns
+    -------
+    float or ndarray
+        The ratio in dB; shape of ``ratio`` (a float for a scalar).
+
+    Notes
+    -----
+    .. math:: r_{dB} = 20\\log_{10} r
+
+    Examples
+    --------
     >>> decibels(100.0)
     40.0
+    >>> decibels(np.array([1.0, 10.0, 4000.0])).round(2).tolist()
+    [0.0, 20.0, 72.04]
     """
     r = _array(ratio, "ratio", positive=True)
     out = 20.0 * np.log10(r)

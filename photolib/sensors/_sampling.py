@@ -24,8 +24,27 @@ from photolib._validate import as_array as _array
 def nyquist_frequency(pixel_pitch) -> float:
     """Highest frequency a pixel grid can represent: :math:`f_N = 1/(2p)` (cycles/unit).
 
+    Parameters
+    ----------
+    pixel_pitch : float
+        Pixel pitch p (Pixelabstand), > 0, image unit (mm in the course: 0.005 for 5 µm).
+
+    Returns
+    -------
+    float
+        Nyquist frequency f_N, cycles per image unit (lp/mm for p in mm): one line pair
+        per two pixels.
+
+    Notes
+    -----
+    .. math:: f_N = \\frac{f_s}{2} = \\frac{1}{2p}
+
+    Examples
+    --------
     >>> nyquist_frequency(0.005)   # 5 µm pixels: 100 line pairs per mm
     100.0
+    >>> round(nyquist_frequency(0.0035), 3)   # 3.5 µm pixels, lp/mm
+    142.857
     """
     return 0.5 / as_scalar(pixel_pitch, "pixel_pitch", positive=True)
 
@@ -33,10 +52,29 @@ def nyquist_frequency(pixel_pitch) -> float:
 def alias_frequency(frequency, pixel_pitch) -> np.ndarray | float:
     """Apparent frequency of a sampled sine (Alias): folded into [0, f_N].
 
+    Parameters
+    ----------
+    frequency : float or array_like, any shape
+        Spatial frequency f of the pattern, ≥ 0, cycles per image unit (lp/mm).
+    pixel_pitch : float
+        Pixel pitch p, > 0, image unit (mm).
+
+    Returns
+    -------
+    float or ndarray
+        Alias frequency f_a in [0, f_N], cycles per image unit (lp/mm); f itself below the
+        Nyquist frequency. Shape of ``frequency`` (a float for a scalar).
+
+    Notes
+    -----
     .. math:: f_a = \\left|f - f_s\\,\\operatorname{round}(f/f_s)\\right|,\\quad f_s = 1/p
 
+    Examples
+    --------
     >>> alias_frequency([30.0, 80.0, 120.0, 200.0], 0.005).tolist()   # f_N = 100 /mm
     [30.0, 80.0, 80.0, 0.0]
+    >>> alias_frequency(150.0, 0.005)   # lp/mm: 150 /mm on 5 µm pixels looks like 50 /mm
+    50.0
     """
     f = _array(frequency, "frequency", nonnegative=True)
     fs = 1.0 / as_scalar(pixel_pitch, "pixel_pitch", positive=True)
@@ -55,17 +93,28 @@ def pixel_mtf(frequency, pixel_pitch, fill_factor: float = 1.0) -> np.ndarray | 
 
     Parameters
     ----------
-    frequency : float or array_like
-        Spatial frequency, cycles per image unit, ≥ 0.
+    frequency : float or array_like, any shape
+        Spatial frequency f, cycles per image unit (lp/mm), ≥ 0.
     pixel_pitch : float
-        Pixel pitch p, image unit.
+        Pixel pitch p, image unit (mm), > 0.
     fill_factor : float
-        Fill factor in (0, 1].
+        Fill factor FF (Füllfaktor), the light-sensitive fraction of the pixel area,
+        dimensionless, in (0, 1].
+
+    Returns
+    -------
+    float or ndarray
+        Modulation transfer MTF(f), dimensionless in [0, 1]; shape of ``frequency``
+        (a float for a scalar).
 
     Examples
     --------
     >>> round(pixel_mtf(100.0, 0.005), 4)    # at Nyquist, FF = 1: 2/π
     0.6366
+    >>> round(pixel_mtf(100.0, 0.005, 0.5), 4)   # a smaller sensitive area: less blur
+    0.8067
+    >>> pixel_mtf([0.0, 200.0], 0.005).round(12).tolist()   # first zero at f = 1/a
+    [1.0, 0.0]
     """
     f = _array(frequency, "frequency", nonnegative=True)
     p = as_scalar(pixel_pitch, "pixel_pitch", positive=True)
