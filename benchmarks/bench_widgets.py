@@ -26,6 +26,8 @@ def _cases():
         (distortion.IterationExplorer, "A1", (-2.0, -60.0)),
         (projection.ProjectionExplorer, "kappa", (0.0, 25.0)),
         (projection.FootprintExplorer, "phi", (0.0, 20.0)),
+        # 200 m ↔ 1500 m changes the scale every time: the full-redraw path of a rescale
+        (projection.FootprintExplorer, "Z0", (200.0, 1500.0)),
         (plane.ProjectiveExplorer, "c1", (0.15, 0.35)),
         (plane.RectificationExplorer, "dcol", (2.0, 8.0)),
         (resection.ResectionExplorer, "noise_um", (5.0, 20.0)),

@@ -196,6 +196,20 @@ def test_footprint_explorer_reaches_the_horizon_and_follows_the_footprint():
     assert f._ax.get_xlim()[1] < 2000
 
 
+def test_footprint_explorer_keeps_its_scale_for_a_slider_moving_back_and_forth():
+    """The hysteresis of the axes: 0° ↔ 20° pitch stays on one scale (blitted updates, no
+    full redraw), while the footprint always fits inside the axes."""
+    f = npj.FootprintExplorer()
+    f.set(phi=20.0)
+    limit = f._ax.get_xlim()[1]
+    for phi in (0.0, 20.0, 0.0, 20.0):
+        f.set(phi=phi)
+        assert f._ax.get_xlim()[1] == limit and f.live._background is not None
+        assert f.report["extent_m"] <= limit
+    f.set(phi=0.0, Z0=200.0)   # five times smaller: below a quarter of the axes, rescaled
+    assert f._ax.get_xlim()[1] < limit / 4 + 1e-9 and f.report["extent_m"] <= f._ax.get_xlim()[1]
+
+
 def test_projection_explorers_update():
     e = npj.ProjectionExplorer()
     assert moves(e, "kappa", 20.0) == (True, True)

@@ -269,10 +269,17 @@ class FootprintExplorer(Explorer):
         self._finish()
 
     def _set_limit(self, limit) -> None:
-        if limit != self._limit:  # a new scale: the cached background has the old ticks
-            self._limit = limit
-            self._ax.set(xlim=(-limit, limit), ylim=(-limit, limit))
-            self.live.invalidate()
+        """Rescale the axes only when the footprint outgrows them or shrinks below a quarter.
+
+        A new scale means a full redraw (the cached background holds the old ticks), which
+        costs several times a blitted update; the hysteresis keeps a slider that moves back
+        and forth on one scale.
+        """
+        if self._limit is not None and limit <= self._limit <= 4.0 * limit:
+            return
+        self._limit = limit
+        self._ax.set(xlim=(-limit, limit), ylim=(-limit, limit))
+        self.live.invalidate()
 
     def draw(self, omega, phi, kappa, Z0) -> str:
         self.report = rep = footprint_report(omega, phi, kappa, Z0)
@@ -287,7 +294,7 @@ class FootprintExplorer(Explorer):
             gx, gy, _ = lines_xyz(np.array([line for line in rep["lines"]]))
             self._grid.set_data(gx, gy)
             if clipped:
-                html += (f"<p>axes clipped at ±{limit / 1000:g} km (20·Z0): the far corners lie "
+                html += (f"<p>axes clipped at ±{self._limit / 1000:g} km (20·Z0): the far corners lie "
                          f"{rep['extent_m'] / 1000:,.0f} km out</p>")
         return html
 
