@@ -18,7 +18,7 @@ import numpy as np
 import photolib as pl
 from photolib import bundle as bd
 from photolib.nb.draw import format_corners, lines_xyz
-from photolib.nb.live import Explorer, LiveFigure, slider
+from photolib.nb.live import Explorer, LiveFigure, finished, slider
 
 __all__ = [
     "C_MM",
@@ -450,7 +450,7 @@ def plot_block(block: Block, control=(), title="block / Bildverband"):
                 label="control points")
     ax.set(aspect="equal", xlabel="X [m]", ylabel="Y [m]", title=title)
     ax.legend(fontsize=8, loc="upper right")
-    return fig
+    return finished(fig)
 
 
 def plot_sparsity(pattern, reduced_size=None, title="normal matrix N / Normalgleichungsmatrix"):
@@ -464,7 +464,7 @@ def plot_sparsity(pattern, reduced_size=None, title="normal matrix N / Normalgle
         ax.plot([-0.5, s, s, -0.5, -0.5], [-0.5, -0.5, s, s, -0.5], color="#d62728", lw=1)
     ax.set_title(title, fontsize=10)
     ax.grid(False)
-    return fig
+    return finished(fig)
 
 
 def plot_statistics(statistic, critical, flagged=(), title="standardised residuals"):
@@ -480,7 +480,7 @@ def plot_statistics(statistic, critical, flagged=(), title="standardised residua
     ax.set(xlabel="observation coordinate (x′, y′ interleaved)", ylabel="|statistic|",
            title=title)
     ax.legend(fontsize=8)
-    return fig
+    return finished(fig)
 
 
 def plot_reliability(report, title="internal reliability: minimal detectable blunder ∇0"):
@@ -503,7 +503,7 @@ def plot_reliability(report, title="internal reliability: minimal detectable blu
     ax.set(yscale="log", xlabel="observation coordinate (x′, y′ interleaved)",
            ylabel="∇0 [µm]", title=title)
     ax.legend(fontsize=7, ncol=4, loc="upper right")
-    return fig
+    return finished(fig)
 
 
 def _ellipse(cov2, scale, n=41):
@@ -529,7 +529,7 @@ def plot_ellipses(block: Block, result, control=(), scale: float = 1000.0,
     if len(control):
         ax.plot(*pts[np.asarray(control)][:, :2].T, "^", color="#d62728", ms=7)
     ax.set(aspect="equal", xlabel="X [m]", ylabel="Y [m]", title=f"{title} (×{scale:g})")
-    return fig
+    return finished(fig)
 
 
 # -- widgets --------------------------------------------------------------------------------------

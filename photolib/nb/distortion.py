@@ -12,7 +12,7 @@ import numpy as np
 
 import photolib as pl
 from photolib.nb.draw import format_corners, grid_lines
-from photolib.nb.live import Explorer, LiveFigure, slider
+from photolib.nb.live import Explorer, LiveFigure, finished, slider
 
 __all__ = [
     "SCALE",
@@ -282,7 +282,7 @@ def plot_distortion_field(d, half=HALF, n=11, title="Δ at measured points"):
     fig.colorbar(q, ax=ax, label="|Δ| [µm]")
     ax.plot(*format_corners(*half).T, color="0.5", lw=1)
     ax.set(aspect="equal", xlabel="x' [mm]", ylabel="y' [mm]", title=title)
-    return fig
+    return finished(fig)
 
 
 def plot_distorted_grid(models, half=HALF, exaggeration=10.0):
@@ -302,7 +302,7 @@ def plot_distorted_grid(models, half=HALF, exaggeration=10.0):
             ax.plot(*shown.T, color="#1f77b4", lw=1)
         ax.set(aspect="equal", title=name, xticks=[], yticks=[])
     fig.suptitle(f"straight lines, imaged (displacements × {exaggeration:g})", fontsize=10)
-    return fig
+    return finished(fig)
 
 
 def plot_radial_profiles(models, rmax=None):
@@ -316,7 +316,7 @@ def plot_radial_profiles(models, rmax=None):
     ax.axhline(0, color="0.5", lw=0.8)
     ax.set(xlabel="r' [mm]", ylabel="Δr' [µm]", title="radial-symmetric distortion")
     ax.legend(fontsize=8)
-    return fig
+    return finished(fig)
 
 
 def plot_convergence(histories, tol=1e-12):
@@ -330,4 +330,4 @@ def plot_convergence(histories, tol=1e-12):
     ax.axhline(tol, color="0.5", ls=":", lw=1)
     ax.set(xlabel="iteration", ylabel="largest step [mm]", title="convergence")
     ax.legend(fontsize=8)
-    return fig
+    return finished(fig)

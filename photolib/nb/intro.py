@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from photolib import sensors as ps
-from photolib.nb.live import Explorer, LiveFigure, slider
+from photolib.nb.live import Explorer, LiveFigure, finished, slider
 
 __all__ = [
     "BLOCK_M",
@@ -182,7 +182,7 @@ def plot_timeline(events=HISTORY, title="history / Geschichte der Photogrammetri
         ax.text(year + 1, level, f"{year}: {label}", fontsize=7, va="center")
     ax.set(xlim=(1850, 2030), ylim=(-0.05, 1.0), yticks=[], xlabel="year", title=title)
     ax.grid(False)
-    return fig
+    return finished(fig)
 
 
 def plot_process(title="the photogrammetric process / der photogrammetrische Prozess"):
@@ -204,7 +204,7 @@ def plot_process(title="the photogrammetric process / der photogrammetrische Pro
                         arrowprops={"arrowstyle": "->", "color": "0.3"})
     ax.set(xlim=(0, 1), ylim=(0, 1), title=title)
     ax.axis("off")
-    return fig
+    return finished(fig)
 
 
 # -- widgets --------------------------------------------------------------------------------------

@@ -24,7 +24,7 @@ from photolib.measurement import (
     weighted_centroid,
     zero_crossings,
 )
-from photolib.nb.live import Explorer, LiveFigure, slider
+from photolib.nb.live import Explorer, LiveFigure, finished, slider
 from photolib.transforms._base import ConvergenceError
 
 __all__ = [
@@ -115,7 +115,7 @@ def plot_log_profile(sigma: float = 2.0):
     ax.axhline(0.0, color="0.3", lw=0.6)
     ax.set(xlabel="r [px]", ylabel="∇²G", title=f"LoG profile, σ = {sigma:g} px (zero at √2·σ)")
     ax.legend(fontsize=8)
-    return fig
+    return finished(fig)
 
 
 def log_report(sigma: float = 2.0, threshold: float = 2.0, noise: float = 2.0) -> dict:

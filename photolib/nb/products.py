@@ -13,7 +13,7 @@ import numpy as np
 
 import photolib as pl
 from photolib.nb.draw import lines_xyz
-from photolib.nb.live import Explorer, LiveFigure, slider
+from photolib.nb.live import Explorer, LiveFigure, finished, slider
 from photolib.orthophoto import DTM, FrameCamera
 from photolib.rectify import output_grid
 
@@ -193,7 +193,7 @@ def plot_relief_geometry(h=30.0, H=300.0, R=120.0, c=C_MM, exaggerate=1500.0):
     bx.plot([rep["r_top"]], [0], "o", color="#d62728")
     bx.annotate(f"Δr = {rep['dr']:.2f} mm", (rep["r_top"], 0), (rep["r_top"] + 2, 0.3), fontsize=8)
     fig.tight_layout()
-    return fig
+    return finished(fig)
 
 
 class ReliefExplorer(Explorer):
@@ -432,7 +432,7 @@ def plot_products(panels: dict, extent=None, cmap="gray"):
         ax.set_xticks([])
         ax.set_yticks([])
     fig.tight_layout()
-    return fig
+    return finished(fig)
 
 
 def plot_mosaic(mosaic, source, nadirs, extent):
@@ -451,7 +451,7 @@ def plot_mosaic(mosaic, source, nadirs, extent):
     ax.plot(*nad.T, "+", color="#1f77b4", ms=12, mew=2)
     ax.set(xlabel="X [m]", ylabel="Y [m]", title="mosaic, seamline (orange), nadir points (+)")
     ax.grid(False)
-    return fig
+    return finished(fig)
 
 
 def plot_height_models(models: dict, vmax: float = 40.0):
@@ -467,7 +467,7 @@ def plot_height_models(models: dict, vmax: float = 40.0):
         ax.set(title=title, xlabel="X [m]")
         ax.grid(False)
     fig.colorbar(im, ax=list(axes), label="Z [m]", shrink=0.85)
-    return fig
+    return finished(fig)
 
 
 def plot_ortho_map(ortho, model, shape, origin, pixel_size, interval: float = 2.5):
@@ -486,4 +486,4 @@ def plot_ortho_map(ortho, model, shape, origin, pixel_size, interval: float = 2.
     ax.clabel(cs, fontsize=6)
     ax.grid(False)
     ax.set(title=f"orthophoto map, contours {interval:g} m", xlabel="X [m]", ylabel="Y [m]")
-    return fig
+    return finished(fig)

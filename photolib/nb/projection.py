@@ -21,7 +21,7 @@ from photolib.nb.draw import (
     lines_xyz,
     setup_axes3d,
 )
-from photolib.nb.live import Explorer, LiveFigure, slider
+from photolib.nb.live import Explorer, LiveFigure, finished, slider
 from photolib.nb.text import matrix_html
 
 __all__ = [
@@ -327,4 +327,4 @@ def plot_projection(X0, R, c, x0=0.0, y0=0.0, distortion=None, title="image / Bi
     ax.set(xlim=(-24, 24), ylim=(-16, 16), aspect="equal", xlabel="x' [mm]", ylabel="y' [mm]",
            title=title)
     fig.subplots_adjust(0.0, 0.14, 0.98, 0.92, wspace=0.15)
-    return fig
+    return finished(fig)

@@ -16,7 +16,7 @@ import numpy as np
 
 import photolib as pl
 from photolib.nb.draw import format_corners, frustum_segments, lines_xyz, setup_axes3d
-from photolib.nb.live import Explorer, LiveFigure, slider
+from photolib.nb.live import Explorer, LiveFigure, finished, slider
 from photolib.transforms._base import ConvergenceError
 
 __all__ = [
@@ -290,7 +290,7 @@ def plot_scene(X, cameras, title="control points and cameras"):
                 color=colour, lw=1.2, label=label)
     ax.legend(loc="upper left", fontsize=8)
     ax.set_title(title)
-    return fig
+    return finished(fig)
 
 
 def plot_residuals(xy, residuals, scale: float = 200.0, title="residuals / Verbesserungen"):
@@ -305,7 +305,7 @@ def plot_residuals(xy, residuals, scale: float = 200.0, title="residuals / Verbe
     ax.plot(*lines_xyz(seg)[:2], color="#d62728", lw=1.5)
     ax.set(xlim=(-20, 20), ylim=(-14, 14), aspect="equal", xlabel="x' [mm]",
            ylabel="y' [mm]", title=f"{title} (×{scale:g})")
-    return fig
+    return finished(fig)
 
 
 def plot_convergence(histories: dict, reference, title="convergence / Konvergenz"):
@@ -325,7 +325,7 @@ def plot_convergence(histories: dict, reference, title="convergence / Konvergenz
             ax.semilogy(len(err) - 1, err[-1], "x", color=line.get_color(), ms=10, mew=2)
     ax.set(xlabel="iteration", ylabel="‖q − q̂‖ [m, rad]", title=title, ylim=(1e-14, 1e4))
     ax.legend(fontsize=8)
-    return fig
+    return finished(fig)
 
 
 def plot_dlt_depth(curve, title="DLT decomposition error and field depth"):
@@ -338,7 +338,7 @@ def plot_dlt_depth(curve, title="DLT decomposition error and field depth"):
     ax.semilogy(curve["depth"], curve["X0"], "^-", ms=3, label="|ΔX0| [m]")
     ax.set(xlabel="height range of the control points [m]", ylabel="error", title=title)
     ax.legend(fontsize=8)
-    return fig
+    return finished(fig)
 
 
 # -- widgets --------------------------------------------------------------------------------------

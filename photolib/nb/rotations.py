@@ -10,7 +10,7 @@ import numpy as np
 
 import photolib as pl
 from photolib.nb.draw import AXIS_COLOURS, frame_segments, frustum_segments, lines_xyz, setup_axes3d
-from photolib.nb.live import Explorer, LiveFigure, slider
+from photolib.nb.live import Explorer, LiveFigure, finished, slider
 from photolib.nb.text import matrix_html
 
 __all__ = [
@@ -211,7 +211,7 @@ def plot_frames(rotations, titles, figsize=None):
         draw_frame(ax, R, labels=("x'", "y'", "z'"))
         ax.set_title(title, fontsize=10)
     fig.subplots_adjust(0, 0, 1, 0.92, wspace=0.05)
-    return fig
+    return finished(fig)
 
 
 def plot_rotation_2d(alpha_deg: float, point=(1.0, 0.4)):
@@ -238,4 +238,4 @@ def plot_rotation_2d(alpha_deg: float, point=(1.0, 0.4)):
     ax.set(xlim=(-1.2, 1.4), ylim=(-1.2, 1.4), aspect="equal", xlabel="x", ylabel="y",
            title=f"plane rotation, α = {alpha_deg:g}°")
     ax.grid(alpha=0.3)
-    return fig
+    return finished(fig)

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from photolib import sensors as ps
-from photolib.nb.live import Explorer, LiveFigure, slider
+from photolib.nb.live import Explorer, LiveFigure, finished, slider
 
 __all__ = [
     "PITCH_MM",
@@ -189,7 +189,7 @@ def plot_snr(full_well_e: float = 20000.0, read_noise_e: float = 5.0, gain: floa
     ax.set(xlabel="signal S [e⁻]", ylabel="SNR", ylim=(0.1, 1000),
            title="signal-to-noise ratio / Signal-Rausch-Verhältnis")
     ax.legend(fontsize=8, loc="upper left")
-    return fig
+    return finished(fig)
 
 
 def plot_mtf(pitch: float = PITCH_MM, fill_factors=(1.0, 0.5, 0.25)):
@@ -205,7 +205,7 @@ def plot_mtf(pitch: float = PITCH_MM, fill_factors=(1.0, 0.5, 0.25)):
     ax.set(xlabel="frequency [cycles/mm]", ylabel="MTF", ylim=(0, 1.1),
            title=f"MTF of a square pixel, p = {pitch * 1e3:g} µm")
     ax.legend(fontsize=8)
-    return fig
+    return finished(fig)
 
 
 def plot_bayer(rgb, pattern: str = "RGGB", title: str = "Bayer mosaic and bilinear demosaic"):
@@ -224,7 +224,7 @@ def plot_bayer(rgb, pattern: str = "RGGB", title: str = "Bayer mosaic and biline
         ax.set(title=name, xticks=[], yticks=[])
         ax.grid(False)
     fig.suptitle(title, fontsize=10)
-    return fig
+    return finished(fig)
 
 
 # -- widgets --------------------------------------------------------------------------------------

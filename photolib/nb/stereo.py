@@ -18,7 +18,7 @@ import numpy as np
 
 import photolib as pl
 from photolib.nb.draw import format_corners, house_edges, lines_xyz
-from photolib.nb.live import Explorer, LiveFigure, slider
+from photolib.nb.live import Explorer, LiveFigure, finished, slider
 from photolib.nb.text import matrix_html
 
 __all__ = [
@@ -271,7 +271,7 @@ def plot_normal_case(B=20.0, h=100.0, title="normal case / Normalfall (X–Z sec
     fig, ax = plt.subplots(figsize=(6.0, 3.2))
     _draw_pair(ax, B, h)
     ax.set_title(title)
-    return fig
+    return finished(fig)
 
 
 def _draw_pair(ax, B, h):
@@ -299,7 +299,7 @@ def plot_digitised(d, title="stereo digitising: plan and elevation"):
         axis.set(aspect="equal", xlabel="XYZ"[i] + " [m]", ylabel="XYZ"[j] + " [m]")
     ax.legend(fontsize=8)
     fig.suptitle(title)
-    return fig
+    return finished(fig)
 
 
 def plot_relative_convergence(history, reference, title="relative orientation: convergence"):
@@ -311,7 +311,7 @@ def plot_relative_convergence(history, reference, title="relative orientation: c
     ax.semilogy(np.arange(len(err)), err, "o-", ms=4)
     ax.set(xlabel="iteration", ylabel="‖q − q̂‖ [model unit, rad]", title=title,
            ylim=(1e-16, 1.0))
-    return fig
+    return finished(fig)
 
 
 # -- widgets --------------------------------------------------------------------------------------
@@ -449,4 +449,4 @@ def plot_artificial_stereo(eye_base: float = 65.0, viewing: float = 250.0,
     ax.title.set_fontsize(9)
     fig.tight_layout()
     fig.fused = fused
-    return fig
+    return finished(fig)
