@@ -65,7 +65,8 @@ class LiveFigure:
     def __init__(self, figsize, dpi: float = 80):
         self.figure = Figure(figsize=figsize, dpi=dpi)
         FigureCanvasAgg(self.figure)
-        self.output = widgets.Output()
+        # never shrunk by a flex box: a narrow notebook column would crop the PNG's right edge
+        self.output = widgets.Output(layout=widgets.Layout(flex="0 0 auto"))
         self.png = b""
         self._animated: list = []
         self._background = None
@@ -179,7 +180,10 @@ class Explorer:
     def _finish(self) -> None:
         self.html = widgets.HTML(layout=widgets.Layout(min_width="260px"))
         box = widgets.VBox(list(self.controls.values()))
-        self.widget = Panel([box, widgets.HBox([self.live.output, self.html])], title=self.title)
+        # the text wraps below the figure where the column is too narrow for both
+        row = widgets.HBox([self.live.output, self.html],
+                           layout=widgets.Layout(flex_flow="row wrap"))
+        self.widget = Panel([box, row], title=self.title)
         for control in self.controls.values():
             control.observe(self._on_change, names="value")
         self.update()

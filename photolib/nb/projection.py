@@ -212,8 +212,9 @@ class ProjectionExplorer(Explorer):
         fig = self.live.figure
         ax3 = fig.add_subplot(1, 2, 1, projection="3d")
         ax2 = fig.add_subplot(1, 2, 2)
-        fig.subplots_adjust(0.0, 0.14, 0.98, 0.92, wspace=0.15)
+        fig.subplots_adjust(0.0, 0.14, 0.98, 0.92, wspace=0.32)
         setup_axes3d(ax3, _LIMITS, elev=25, azim=-50)
+        ax3.set_zlabel("Z", labelpad=-4)  # keeps clear of the image panel's y' label
         _draw_scene(ax3)
         (self._frustum,) = ax3.plot([], [], [], color="#9467bd", lw=1)
         self._axes = [ax3.plot([], [], [], color=col, lw=2)[0] for col in AXIS_COLOURS]
@@ -312,6 +313,7 @@ def plot_projection(X0, R, c, x0=0.0, y0=0.0, distortion=None, title="image / Bi
     fig = plt.figure(figsize=(7.2, 3.2))
     ax3 = fig.add_subplot(1, 2, 1, projection="3d")
     setup_axes3d(ax3, _LIMITS, elev=25, azim=-50)
+    ax3.set_zlabel("Z", labelpad=-4)  # keeps clear of the image panel's y' label
     _draw_scene(ax3)
     ax3.plot(*lines_xyz(_camera_segments(X0, R, c)), color="#9467bd", lw=1)
     for col, seg in zip(AXIS_COLOURS, frame_segments(R, X0, 8.0)):
@@ -326,5 +328,5 @@ def plot_projection(X0, R, c, x0=0.0, y0=0.0, distortion=None, title="image / Bi
     ax.plot(*xy[edges.shape[0] * 2:].T, ".", color="#8c564b", ms=4)
     ax.set(xlim=(-24, 24), ylim=(-16, 16), aspect="equal", xlabel="x' [mm]", ylabel="y' [mm]",
            title=title)
-    fig.subplots_adjust(0.0, 0.14, 0.98, 0.92, wspace=0.15)
+    fig.subplots_adjust(0.0, 0.14, 0.98, 0.92, wspace=0.32)
     return finished(fig)
