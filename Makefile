@@ -6,8 +6,9 @@ VENV   ?= .venv
 BIN    := $(VENV)/bin
 PORT   ?= 8888
 IP     ?= 127.0.0.1
-# Headless by default: set BROWSER=1 to let JupyterLab open a browser tab.
-BROWSER ?= 0
+# Headless by default: set OPEN_BROWSER=1 to let JupyterLab open a browser tab. (Not BROWSER:
+# Python's webbrowser module reads $BROWSER as the command of the browser to start.)
+OPEN_BROWSER ?= 0
 # Empty token: JupyterLab listens on 127.0.0.1 only and answers /lab without login.
 # As root (containers, CI) JupyterLab needs --allow-root, which the lab target adds.
 TOKEN  ?=
@@ -16,14 +17,16 @@ JOBS   ?= 2
 .PHONY: lab test test-fast bench regen assign clean help
 
 help:
-	@echo "make lab    - install the course into $(VENV) and start JupyterLab (PORT=$(PORT), BROWSER=$(BROWSER))"
+	@echo "make lab    - install the course into $(VENV) and start JupyterLab (PORT=$(PORT), OPEN_BROWSER=$(OPEN_BROWSER))"
 	@echo "make test   - install the test extras into $(VENV) and run every test"
 	@echo "make bench  - run the benchmarks in benchmarks/ (not part of the tests)"
 	@echo "make regen  - regenerate photolib/_generated from photolib/derive"
 	@echo "make assign - regenerate the student copies in exercises/ from solutions/"
 
 $(BIN)/python:
-	$(PYTHON) -m venv $(VENV)
+	@$(PYTHON) -m venv $(VENV) || { rm -rf $(VENV); \
+	  echo "make: '$(PYTHON) -m venv' failed. On Debian/Ubuntu install the venv module first:"; \
+	  echo "      sudo apt install python3-venv"; exit 1; }
 	$(BIN)/python -m pip install --quiet --upgrade pip
 
 $(VENV)/.course-installed: pyproject.toml | $(BIN)/python
@@ -39,7 +42,7 @@ lab: $(VENV)/.course-installed
 		--ServerApp.ip=$(IP) --ServerApp.port=$(PORT) --ServerApp.port_retries=0 \
 		--ServerApp.root_dir=$(CURDIR) \
 		--IdentityProvider.token='$(TOKEN)' --ServerApp.password='' \
-		$(if $(filter 1 yes true,$(BROWSER)),,--no-browser) \
+		$(if $(filter 1 yes true,$(OPEN_BROWSER)),,--no-browser) \
 		$(if $(filter 0,$(shell id -u)),--allow-root)
 
 test: $(VENV)/.test-installed

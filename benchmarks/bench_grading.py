@@ -32,7 +32,7 @@ from photolib.grading.batch import grade_batch  # noqa: E402
 from photolib.grading.sandbox import Limits  # noqa: E402
 
 
-def make_batch(folder: Path, n: int, masters: list[str] = ("00-grading-demo",)) -> list[Path]:
+def make_batch(folder: Path, n: int, masters: list[str] = ("00-start",)) -> list[Path]:
     """``n`` submissions cycling through ``masters``, each with its own student id."""
     books = {m: nbformat.read(ROOT / "solutions" / f"{m}.ipynb", as_version=4) for m in masters}
     paths = []
@@ -73,8 +73,8 @@ def main(argv=None) -> int:
                              "instead of the demo master")
     args = parser.parse_args(argv)
     from photolib.grading.exercises import chapters
-    masters = (sorted(c for c in chapters() if c != "00-grading-demo") if args.chapters
-               else ["00-grading-demo"])
+    masters = (sorted(c for c in chapters() if c != "00-start") if args.chapters
+               else ["00-start"])
     os.environ["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT),
                                                              os.environ.get("PYTHONPATH")]))
     with tempfile.TemporaryDirectory() as tmp:

@@ -116,9 +116,14 @@ def generate(outdir: Path | str = GENERATED_DIR) -> list[Path]:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of ``python -m photolib codegen [OUTDIR]``."""
-    argv = list(sys.argv[1:] if argv is None else argv)
-    outdir = Path(argv[0]) if argv else GENERATED_DIR
-    for path in generate(outdir):
+    import argparse
+    parser = argparse.ArgumentParser(
+        prog="python -m photolib codegen",
+        description="regenerate the NumPy code of photolib/_generated from photolib/derive")
+    parser.add_argument("outdir", nargs="?", type=Path, default=GENERATED_DIR,
+                        help=f"folder to write into (default: {GENERATED_DIR})")
+    args = parser.parse_args(list(sys.argv[1:] if argv is None else argv))
+    for path in generate(args.outdir):
         print(f"wrote {path}")
     return 0
 

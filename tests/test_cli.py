@@ -28,3 +28,24 @@ def test_closed_pipe_is_not_a_traceback():
     rc = p.wait(timeout=60)
     p.stderr.close()
     assert rc == 0 and err == "", (rc, err)
+
+
+def test_every_command_has_help_and_writes_nothing(tmp_path, monkeypatch, capsys):
+    # `codegen --help` once took "--help" for its output folder and wrote the code there
+    monkeypatch.chdir(tmp_path)
+    for name in COMMANDS:
+        try:
+            rc = main([name, "--help"])
+        except SystemExit as exc:  # argparse's --help
+            rc = exc.code
+        assert rc == 0, name
+        assert f"python -m photolib {name}" in capsys.readouterr().out, name
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_assign_outside_the_course_is_a_one_line_error(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    # 2, not 1: `assign --check` returns 1 for "student copies out of date"
+    assert main(["assign", "--check"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("assign: no folder solutions") and "Traceback" not in err

@@ -14,7 +14,7 @@ __all__ = ["assign_main", "grade_main"]
 
 def assign_main(argv: list[str]) -> int:
     """Generate student copies from solution masters; ``--check`` only reports differences."""
-    from photolib.grading.assign import assign_folder
+    from photolib.grading.assign import AssignError, assign_folder
     parser = argparse.ArgumentParser(prog="python -m photolib assign",
                                      description="generate exercises/ from solutions/")
     parser.add_argument("--source", default="solutions", help="folder of solution masters")
@@ -22,7 +22,12 @@ def assign_main(argv: list[str]) -> int:
     parser.add_argument("--check", action="store_true",
                         help="exit 1 if a student copy is out of date, write nothing")
     args = parser.parse_args(argv)
-    stale = assign_folder(Path(args.source), Path(args.dest), check=args.check)
+    try:
+        stale = assign_folder(Path(args.source), Path(args.dest), check=args.check)
+    except AssignError as exc:  # exit 2, not 1: with --check, 1 means "copies out of date"
+        print(f"assign: {exc} (run from the course's root folder or pass --source/--dest)",
+              file=sys.stderr)
+        return 2
     for path in stale:
         print(("out of date: " if args.check else "wrote ") + str(path))
     return 1 if args.check and stale else 0

@@ -112,7 +112,8 @@ def sandbox_support() -> SandboxSupport:
     notes = []
     prlimit = shutil.which("prlimit") is not None
     if not prlimit:
-        notes.append("prlimit not found: limits are set by the launcher's preexec hook")
+        notes.append("prlimit not found: no memory, CPU, process or file-size limits; "
+                     "only the wall-clock timeout holds")
     no_network = False
     if shutil.which("unshare"):
         probe = subprocess.run(["unshare", "--net", "true"], capture_output=True)

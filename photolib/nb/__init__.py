@@ -55,6 +55,13 @@ REQUIREMENTS = {
     "ipywidgets": ((8, 1), "ipywidgets"),
 }
 
+#: distribution → first version not tested (the upper pins of pyproject.toml): the committed
+#: outputs (SymPy's printing, NumPy's reprs) were made below it
+TESTED_BELOW = {
+    "numpy": (3,),
+    "sympy": (1, 15),
+}
+
 
 def _version_tuple(text: str) -> tuple:
     parts = []
@@ -81,6 +88,11 @@ def check_environment() -> list[str]:
         if _version_tuple(version) < minimum:
             need = ".".join(map(str, minimum))
             problems.append(f"{dist} {version} is too old: the course needs {need} or newer")
+        elif dist in TESTED_BELOW and _version_tuple(version)[:len(TESTED_BELOW[dist])] >= TESTED_BELOW[dist]:
+            limit = ".".join(map(str, TESTED_BELOW[dist]))
+            problems.append(f"{dist} {version} is newer than the course was tested with "
+                            f"(below {limit}): outputs may differ from the committed ones; "
+                            f"`make lab` installs the tested versions")
     return problems
 
 

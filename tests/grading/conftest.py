@@ -9,8 +9,8 @@ import nbformat
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-MASTER = ROOT / "solutions" / "00-grading-demo.ipynb"
-COPY = ROOT / "exercises" / "00-grading-demo.ipynb"
+MASTER = ROOT / "solutions" / "00-start.ipynb"
+COPY = ROOT / "exercises" / "00-start.ipynb"
 
 
 def load(path: Path):

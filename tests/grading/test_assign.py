@@ -26,7 +26,7 @@ def test_student_copy_has_no_solution_and_no_outputs(untouched):
     text = render(untouched)
     assert "BEGIN SOLUTION" not in text and "demo-student" not in text
     assert all(c.outputs == [] for c in untouched.cells if c.cell_type == "code")
-    assert untouched.metadata["photolib"]["chapter"] == "00-grading-demo"
+    assert untouched.metadata["photolib"]["chapter"] == "00-start"
 
 
 def test_assign_check_mode(tmp_path):
@@ -44,13 +44,13 @@ def test_format_errors_name_the_problem(master):
     i = cell_index(nb, "answer:demo.rotation-x")
     nb.cells[i].metadata["tags"] = ["answer:demo.no-such"]
     with pytest.raises(AssignError, match="answer:demo.no-such names no exercise"):
-        make_student_copy(nb, "00-grading-demo")
+        make_student_copy(nb, "00-start")
     nb = copy.deepcopy(master)
     del nb.cells[cell_index(nb, "answer:demo.rotation-x")]
     with pytest.raises(AssignError, match=r"no cell tagged answer:ID for \['demo.rotation-x'\]"):
-        make_student_copy(nb, "00-grading-demo")
+        make_student_copy(nb, "00-start")
     nb = copy.deepcopy(master)
     i = cell_index(nb, "answer:demo.rotation-x")
     nb.cells[i].source = nb.cells[i].source.replace("### END SOLUTION", "")
     with pytest.raises(AssignError, match="BEGIN SOLUTION without"):
-        make_student_copy(nb, "00-grading-demo")
+        make_student_copy(nb, "00-start")

@@ -147,7 +147,7 @@ def corpus(tmp_path_factory, master, untouched):
     os.chmod(outside, 0o700)
     paths = {}
     for name, nb in _variants(master, untouched, outside).items():
-        path = folder / f"{name}-00-grading-demo.ipynb"
+        path = folder / f"{name}-00-start.ipynb"
         if nb == "DUPLICATE-IDS":
             text = MASTER.read_text(encoding="utf-8").replace('"id": "demo-', '"id": "same')
             text = __import__("re").sub(r'"id": "same\d+"', '"id": "same"', text)
@@ -320,7 +320,7 @@ def test_gradebook_rows_are_clean(corpus):
     assert "duplicate path" in corpus["stderr"]
     assert all(len(r["detail"]) <= 1000 for r in listed)
     assert not any(r["submission"] == "fake.ipynb" for r in listed)
-    assert {r["chapter"] for r in listed} == {"00-grading-demo"}
+    assert {r["chapter"] for r in listed} == {"00-start"}
     assert row(corpus, "wrong-chapter")["max_total"] == FULL
     assert "big.bin" in row(corpus, "normal")["detail"]
     assert "not copied" in row(corpus, "normal")["detail"]

@@ -188,7 +188,7 @@ def test_erratum_hint_degrades_without_catalogue(monkeypatch):
 def test_registry_is_consistent():
     ids = [ex.id for exs in chapters().values() for ex in exs]
     assert len(ids) == len(set(ids))
-    assert {ex.kind for ex in chapter("00-grading-demo")} >= {"number", "rotation",
+    assert {ex.kind for ex in chapter("00-start")} >= {"number", "rotation",
                                                                "expression", "function",
                                                                "choice"}
     with pytest.raises(KeyError, match="unknown exercise id 'nope'"):

@@ -4,7 +4,7 @@ Each chapter module defines ``CHAPTER`` (the notebook's file stem, e.g. ``"04-ro
 and ``EXERCISES`` (a tuple of :class:`~photolib.grading.spec.Exercise`). Modules are found
 by name, so adding a chapter is adding a file.
 
->>> [ex.id for ex in chapter("00-grading-demo")][:2]
+>>> [ex.id for ex in chapter("00-start")][:2]
 ['demo.image-scale', 'demo.rotation-2d']
 >>> exercise("demo.image-scale").points
 2
@@ -43,7 +43,7 @@ def chapters() -> dict:
 
 
 def chapter(name: str) -> tuple:
-    """Exercises of chapter ``name`` (a notebook file stem such as ``"00-grading-demo"``)."""
+    """Exercises of chapter ``name`` (a notebook file stem such as ``"00-start"``)."""
     all_ = chapters()
     if name not in all_:
         raise KeyError(f"no exercises for chapter {name!r}; chapters: {sorted(all_)}")

@@ -1,4 +1,4 @@
-"""Chapter 00-grading-demo: one exercise of each answer kind, used to test the grader.
+"""Chapter 00-start: one exercise of each answer kind, to practise `check` (and to test the grader).
 
 Independent of the rest of photolib on purpose: the matrices are written out here.
 """
@@ -14,7 +14,7 @@ from photolib.grading.judge import propagated_atol
 from photolib.grading.spec import Exercise, Mistake
 from photolib.grading.variants import aerial_camera, close_range_camera
 
-CHAPTER = "00-grading-demo"
+CHAPTER = "00-start"
 
 
 # -- 1. image scale number (number) ----------------------------------------------------------
