@@ -128,8 +128,8 @@ def footprint_report(omega=0.0, phi=0.0, kappa=0.0, Z0=1000.0, c=35.0) -> dict:
     dict
         ``corners`` (5, 3) closed footprint polygon in m or None when a corner ray misses
         the ground; ``lines``: the image grid on the ground; ``area_km2``; ``scale_number``
-        (Bildmaßstabszahl of the nadir image, Z0/c); ``ray_angle_deg``: the largest angle of
-        a corner ray from the plumb line (≥ 90°: that ray does not go down, horizon in the
+        (Bildmaßstabszahl of the nadir image over the ground Z = 0: (Z0 − Z)/c = Z0/c);
+        ``ray_angle_deg``: the largest angle of a corner ray from the plumb line (≥ 90°: that ray does not go down, horizon in the
         image); ``extent_m``: the largest |X| or |Y| of the footprint (inf without one);
         ``html``.
 
@@ -159,8 +159,9 @@ def footprint_report(omega=0.0, phi=0.0, kappa=0.0, Z0=1000.0, c=35.0) -> dict:
         corners, lines, area, extent = None, None, float("nan"), float("inf")
         status = ("<span style='color:#b00'>a corner ray does not meet the ground "
                   "(horizon in the image)</span>")
-    html = (f"<p>nadir image scale 1 : {scale_number:,.0f} (Bildmaßstabszahl m<sub>b</sub> = Z0/c)"
-            f"<br>steepest corner ray: {ray_angle:.1f}° from the plumb line (90° = horizon)"
+    html = (f"<p>nadir image scale 1 : {scale_number:,.0f} "
+            f"(Bildmaßstabszahl m<sub>b</sub> = (Z0 − Z)/c, ground Z = 0)"
+            f"<br>most oblique (flattest) corner ray: {ray_angle:.1f}° from the plumb line (90° = horizon)"
             f"<br>{status}</p>")
     return {"R": R, "corners": corners, "lines": lines, "area_km2": area,
             "scale_number": scale_number, "ray_angle_deg": ray_angle, "extent_m": extent,

@@ -27,7 +27,9 @@ __all__ = [
     "HALF",
     "EpipolarExplorer",
     "StereoPairExplorer",
+    "epipolar_ray_orientation",
     "epipolar_report",
+    "object_orientations",
     "pair_report",
     "pair_scene",
     "plot_normal_case",
@@ -110,7 +112,8 @@ def epipolar_report(x1: float = 5.0, y1: float = 3.0, phi_deg: float = 8.0,
         ``E``, ``F`` (3, 3); ``line`` (a, b, d) in image 2 with a·x' + b·y' + d = 0;
         ``marks`` (K, 2): the images in image 2 of points on the ray at the distances
         ``_DEPTH_M·_DEPTH_MARKS``; ``segment`` (2, 2): the line clipped to the drawing;
-        ``py_mm``: y'2 − y'1 of the mark at ``_DEPTH_M`` (y-parallax); ``html``.
+        ``py_mm``: y'2 − y'1 of the mark at ``_DEPTH_M`` (minus the y-parallax
+        p_y' = y'1 − y'2); ``html``.
 
     Examples
     --------
@@ -136,7 +139,8 @@ def epipolar_report(x1: float = 5.0, y1: float = 3.0, phi_deg: float = 8.0,
     py = float(mid[1] - y1)
     html = (f"<p>point in image 1: ({x1:.1f}, {y1:.1f}) mm<br>"
             f"epipolar line in image 2:<br>&nbsp;{a:+.4f}·x' {b:+.4f}·y' {d:+.3f} = 0<br>"
-            f"y-parallax of the point at {_DEPTH_M:g} m: <b>{py:+.3f} mm</b><br>"
+            f"y'<sub>2</sub> − y'<sub>1</sub> of the point at {_DEPTH_M:g} m "
+            f"(−p<sub>y</sub>'): <b>{py:+.3f} mm</b><br>"
             f"(0 in the normal case φ2 = κ2 = 0)</p>"
             + matrix_html(E / np.linalg.norm(E), "E / |E| (x*1ᵀ E x*2 = 0)", 3))
     return {"E": E, "F": F, "line": line, "marks": marks, "segment": seg, "py_mm": py,
@@ -232,6 +236,120 @@ def digitise_house(B: float = 20.0, h: float = 100.0, noise_um: float = 3.0, see
             "error_mm": (measured - corners) * 1e3, "sigma": (acc.sigma_XY, acc.sigma_Z),
             "sigma_corners": per_corner,
             "sigma_rms": np.sqrt(np.mean(per_corner**2, axis=0))}
+
+
+def epipolar_ray_orientation(X01, R1, X02, R2, c: float, Z: float) -> dict:
+    r"""Orientation by epipolar rays (Orientierung nach Kernstrahlen) of an oriented pair.
+
+    The three steps of the German summary, computed: (1) the principal points H1' of image 1
+    and H2'' of image 2 (the origins of the image coordinates, which must be reduced to the
+    principal point); (2) each is transferred into the neighbouring image: the ground point
+    on its axis at height ``Z`` (monoplotting, :func:`photolib.monoplot`) is projected into
+    the other image, giving H2' in image 1 and H1'' in image 2; (3) each image is turned in
+    its plane about its principal point until its epipolar ray (Kernstrahl) H1'→H2' (image
+    1), H1''→H2'' (image 2) runs along +x'. Both rays then lie on the one line y' = 0.
+
+    Both rays are images of the same ground line P1P2, so points on it get no y-parallax.
+    For vertical images (ω = φ = 0) the axes are parallel, O1, O2, P1 and P2 lie in one
+    epipolar plane and the rays are epipolar lines; with bz = 0 as well the turned pair is
+    the normal case. Tilts are not removed: for them see
+    :func:`photolib.normal_case_rotation`.
+
+    Parameters
+    ----------
+    X01, X02 : array_like, shape (3,)
+        Projection centres, object unit.
+    R1, R2 : array_like, shape (3, 3)
+        Rotations camera → object (``R_ω·R_φ·R_κ``).
+    c : float
+        Camera constant of both images, image unit (> 0).
+    Z : float
+        Height of the ground plane the principal points are transferred on, object unit.
+
+    Returns
+    -------
+    dict
+        ``H2_in_1`` (2,): H2' in image 1; ``H1_in_2`` (2,): H1'' in image 2 (image unit);
+        ``theta`` (2,): direction of each epipolar ray, rad, counter-clockwise from +x';
+        ``turn`` (2, 2, 2): the plane rotations ``R(−θ_i)``, so that the turned coordinates
+        of image i are ``xy @ turn[i].T``.
+
+    Examples
+    --------
+    Two vertical images, turned by κ = 10° and −5°, base along X and Y: the turned pair is
+    the normal case, all y-parallaxes vanish.
+
+    >>> R1, R2 = (pl.rotation_opk(0.0, 0.0, np.radians(k)) for k in (10.0, -5.0))
+    >>> X01, X02 = np.array([0.0, 0.0, 100.0]), np.array([12.0, 5.0, 100.0])
+    >>> o = epipolar_ray_orientation(X01, R1, X02, R2, 50.0, 0.0)
+    >>> np.round(np.degrees(o["theta"]), 4).tolist()    # atan2(5, 12) − κ_i
+    [12.6199, 27.6199]
+    >>> X = np.array([[3.0, -8.0, 2.0], [10.0, 9.0, -1.0]])
+    >>> a1 = pl.project(X, X01, R1, 50.0) @ o["turn"][0].T
+    >>> a2 = pl.project(X, X02, R2, 50.0) @ o["turn"][1].T
+    >>> bool(np.abs(a1[:, 1] - a2[:, 1]).max() < 1e-12)
+    True
+    """
+    X01, X02 = (np.asarray(v, float) for v in (X01, X02))
+    R1, R2 = (np.asarray(v, float) for v in (R1, R2))
+    if not np.isfinite(Z):
+        raise ValueError(f"Z must be a finite height, got {Z}")
+    P1 = pl.monoplot(np.zeros(2), X01, R1, c, Z=Z)       # ground point of H1'
+    P2 = pl.monoplot(np.zeros(2), X02, R2, c, Z=Z)       # ground point of H2''
+    H2_in_1 = pl.project(P2, X01, R1, c)
+    H1_in_2 = pl.project(P1, X02, R2, c)
+    for name, v in (("H2' (in image 1)", H2_in_1), ("H1'' (in image 2)", H1_in_2)):
+        if np.hypot(*v) < 1e-9 * c:
+            raise ValueError(f"{name} falls on the principal point: the two axes meet the "
+                             f"ground plane Z = {Z} in one point, the epipolar ray has no "
+                             "direction")
+    theta = np.array([np.arctan2(H2_in_1[1], H2_in_1[0]), np.arctan2(-H1_in_2[1], -H1_in_2[0])])
+    return {"H2_in_1": H2_in_1, "H1_in_2": H1_in_2, "theta": theta,
+            "turn": np.stack([pl.rotation_2d(-t) for t in theta])}
+
+
+def object_orientations(ro, T):
+    r"""Exterior orientations of both images from the relative and absolute orientation.
+
+    Luhmann 4.76 (rotation of a bundle / Drehung eines Bündels): in the model of
+    :func:`photolib.relative_orientation` image i has the projection centre
+    :math:`\mathbf x_{0i}` (``0`` and ``ro.base``) and the rotation :math:`A_i` (``I`` and
+    ``ro.R2``); its rays are :math:`\mathbf x = \mathbf x_{0i} + λA_i\mathbf x^*`. The
+    absolute orientation :math:`\mathbf X = \mathbf X_0 + m\,R(ξ, η, ζ)\,\mathbf x` carries
+    each ray into :math:`\mathbf X = (\mathbf X_0 + mR\mathbf x_{0i}) + λm\,(RA_i)\mathbf x^*`:
+    the projection centre :math:`\mathbf X_{0i} = T(\mathbf x_{0i})` and the rotation
+
+    .. math:: R_i = R(ξ, η, ζ)\,A_i .
+
+    Parameters
+    ----------
+    ro : photolib.stereo.RelativeOrientation
+        Relative orientation (image 1: centre 0, R = I), model unit.
+    T : photolib.stereo.AbsoluteOrientation
+        Absolute orientation model → object.
+
+    Returns
+    -------
+    X0 : ndarray, shape (2, 3)
+        Projection centres of images 1 and 2, object unit.
+    R : ndarray, shape (2, 3, 3)
+        Rotations camera → object of images 1 and 2.
+
+    Examples
+    --------
+    From exact image points the chapter's pair comes back:
+
+    >>> s = pair_scene(noise_um=0.0)
+    >>> ro = pl.relative_orientation(s["xy1"], s["xy2"], C_MM, bx=1.0)
+    >>> X0, R = object_orientations(ro, pl.absolute_orientation(ro.model, s["X"]))
+    >>> bool(np.abs(X0 - [s["X01"], s["X02"]]).max() < 1e-8)
+    True
+    >>> bool(np.abs(R - [s["R1"], s["R2"]]).max() < 1e-10)
+    True
+    """
+    A = np.stack([np.eye(3), np.asarray(ro.R2, float)])
+    X0 = np.stack([T(np.zeros(3)), T(np.asarray(ro.base, float))])
+    return X0, np.einsum("ij,njk->nik", np.asarray(T.R, float), A)
 
 
 @functools.lru_cache(maxsize=1)

@@ -153,6 +153,8 @@ def test_unknowns_question_counts_what_the_answer_counts():
         intersection = "forward intersection" in p["task"]
         assert ("not the object coordinates" in text) is not intersection
         assert ("coordinates of that point" in text) is intersection
+        # the lead-in fits the question: no tie points of the pair for one intersected point
+        assert ("tie points" in text) is not intersection
         expected = next(v for w, v in expected_by_word.items() if w in p["task"])
         assert ex.reference(p) == _printed_options(text)[expected]
         seen.add(p["task"])
@@ -163,5 +165,73 @@ def test_unknowns_variant_does_not_carry_the_answer():
     ex = BY_ID["st.unknowns"]
     for sid in STUDENTS:
         p = parameters_for(ex, sid)
-        assert set(p) == {"task", "n", "counted"}
+        assert set(p) == {"task", "n", "counted", "lead"}
         assert not set(str(v) for v in p.values()) & set("abcde")
+
+
+# -- the chapter's notebook helpers of the orientation sections (photolib.nb.stereo) -------------
+# (T6: orientation by epipolar rays; T12: Luhmann 4.76), each against an independent route
+
+def _opencv_epiline_in_image_2(X01, R1, X02, R2, c, xy1):
+    """OpenCV's epipolar line in image 2 of the image-1 point xy1 (mm), as (a, b, d) in (x', y')."""
+    import photolib as pl
+    (Ra, ta), (Rb, tb) = (pl.opencv_pose_from_exterior(X01, R1),
+                          pl.opencv_pose_from_exterior(X02, R2))
+    Rr, tr = Rb @ Ra.T, tb - Rb @ Ra.T @ ta
+    tx = np.array([[0, -tr[2], tr[1]], [tr[2], 0, -tr[0]], [-tr[1], tr[0], 0]])
+    Ki = np.linalg.inv(np.diag([c, c, 1.0]))
+    F_cv = Ki.T @ tx @ Rr @ Ki
+    a, b, d = cv2.computeCorrespondEpilines(np.array([[[xy1[0], -xy1[1]]]]), 1, F_cv).ravel()
+    return np.array([a, -b, d])                     # (u, v) = (x', −y')
+
+
+def test_transferred_principal_points_lie_on_opencvs_epipolar_lines():
+    from photolib.nb import stereo as ns
+    s = ns.pair_scene()
+    o = ns.epipolar_ray_orientation(s["X01"], s["R1"], s["X02"], s["R2"], ns.C_MM, 3.0)
+    # H1'' is the image of a point on the axis of image 1: on the epipolar line of H1'
+    a, b, d = _opencv_epiline_in_image_2(s["X01"], s["R1"], s["X02"], s["R2"], ns.C_MM, [0, 0])
+    assert abs(a * o["H1_in_2"][0] + b * o["H1_in_2"][1] + d) < 1e-6      # OpenCV: float32
+    # and H2'' (the origin of image 2) is on the epipolar line, in image 1, of H2' (swap roles)
+    a, b, d = _opencv_epiline_in_image_2(s["X02"], s["R2"], s["X01"], s["R1"], ns.C_MM, [0, 0])
+    assert abs(a * o["H2_in_1"][0] + b * o["H2_in_1"][1] + d) < 1e-6
+
+
+@pytest.mark.parametrize("kappas, base", [((10.0, -5.0), (12.0, 5.0)), ((-40.0, 170.0), (-3.0, 9.0))])
+def test_epipolar_ray_orientation_of_vertical_images_is_the_normal_case(kappas, base):
+    # independent route: cameras turned about the vertical onto the base direction (κ = heading)
+    import photolib as pl
+    from photolib.nb import stereo as ns
+    R1, R2 = (pl.rotation_opk(0.0, 0.0, np.radians(k)) for k in kappas)
+    X01, X02 = np.array([0.0, 0.0, 100.0]), np.array([base[0], base[1], 100.0])
+    o = ns.epipolar_ray_orientation(X01, R1, X02, R2, 50.0, 0.0)
+    heading = pl.rotation_opk(0.0, 0.0, np.arctan2(base[1], base[0]))
+    X = np.random.default_rng(2).uniform([-20, -20, -5], [20, 20, 5], (12, 3))
+    for i, (X0, R) in enumerate(((X01, R1), (X02, R2))):
+        np.testing.assert_allclose(pl.project(X, X0, R, 50.0) @ o["turn"][i].T,
+                                   pl.project(X, X0, heading, 50.0), atol=1e-10)
+
+
+def test_epipolar_ray_orientation_refuses_a_ray_without_direction():
+    import photolib as pl
+    from photolib.nb import stereo as ns
+    with pytest.raises(ValueError, match="principal point"):
+        ns.epipolar_ray_orientation([0, 0, 10.0], np.eye(3), [0, 0, 20.0], np.eye(3), 50.0, 0.0)
+    with pytest.raises(ValueError, match="finite"):
+        ns.epipolar_ray_orientation([0, 0, 10.0], np.eye(3), [5, 0, 10.0], np.eye(3), 50.0,
+                                    float("nan"))
+    assert pl is not None
+
+
+def test_object_orientations_agree_with_the_space_resection():
+    # 4.76 composed (R_i = R·A_i) against the resection of each image on the object points
+    import photolib as pl
+    from photolib.nb import stereo as ns
+    s = ns.pair_scene(noise_um=0.0)
+    ro = pl.relative_orientation(s["xy1"], s["xy2"], ns.C_MM, bx=1.0)
+    X0, R = ns.object_orientations(ro, pl.absolute_orientation(ro.model[:6], s["X"][:6]))
+    for i, (xy, X0t, Rt) in enumerate(((s["xy1"], s["X01"], s["R1"]), (s["xy2"], s["X02"], s["R2"]))):
+        start = np.r_[X0t + 1.0, np.array(pl.opk_from_rotation(Rt)) + 0.02]
+        res = pl.space_resection(s["X"], xy, ns.C_MM, initial=start)
+        np.testing.assert_allclose(X0[i], res.X0, atol=1e-7)
+        np.testing.assert_allclose(R[i], pl.rotation_opk(res.omega, res.phi, res.kappa), atol=1e-9)

@@ -3,7 +3,8 @@
 * ``rdl.redundancy`` (number): redundancy of a space resection or of a DLT with n points;
 * ``rdl.dlt-vector`` (array): the eleven DLT parameters of a given close-range camera;
 * ``rdl.dlt-interior`` (array): principal point and camera constant from printed L1…L11
-  (Luhmann 4.26; example 4.3 printed x'0, y'0 with the wrong sign);
+  (Luhmann 4.26; the corrected example 4.3 of the errata list still prints x'0, y'0 with the
+  wrong sign);
 * ``rdl.dlt-coefficient`` (expression): one DLT coefficient derived with SymPy;
 * ``rdl.image-point`` (function): image coordinates from the DLT parameters of an aerial image.
 

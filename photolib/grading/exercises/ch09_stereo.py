@@ -227,9 +227,18 @@ _TASKS = {
 }
 
 
+#: the lead-in of the question: the pair for the orientation tasks, the oriented images for
+#: the forward intersection of one point (a count of the whole pair is not asked there)
+_LEAD_PAIR = "A stereo pair with {n} tie points and enough control points."
+_LEAD_POINT = "Both images of a stereo pair are oriented."
+
+
 def _unknowns_params(rng):
     task = str(rng.choice(list(_TASKS)))
-    return {"task": task, "n": int(rng.integers(6, 40)), "counted": _TASKS[task][1]}
+    n = int(rng.integers(6, 40))
+    counted = _TASKS[task][1]
+    lead = _LEAD_POINT if counted == _POINT else _LEAD_PAIR.format(n=n)
+    return {"task": task, "n": n, "counted": counted, "lead": lead}
 
 
 def _letter_of(count):
@@ -255,8 +264,7 @@ def _swapped(p):
 unknowns = Exercise(
     id="st.unknowns", points=1, kind="choice", answer="choice_unknowns",
     title="Unknowns of the orientations / Unbekannte der Orientierungen",
-    statement="A stereo pair with {n} tie points and enough control points. How many "
-              "unknowns does {task} have ({counted})? "
+    statement="{lead} How many unknowns does {task} have ({counted})? "
               "(a) 5, (b) 6, (c) 7, (d) 12, (e) 3. Set the answer to the letter.",
     parameters=_unknowns_params, reference=_unknowns_key,
     choices={k: str(v) for k, v in _COUNTS.items()},

@@ -186,10 +186,12 @@ _PRODUCTS = {
     "e": "image mosaic (Bildmosaik) with seamlines",
 }
 _TASKS = (
-    ("the building footprints of a dense city centre must be digitised at their true "
-     "positions from one map image, roofs and streets at one scale", "b", "a",
+    ("the roof outlines of the buildings of a dense city centre must be digitised at their "
+     "true plan positions, roofs and streets at one scale, from a block of overlapping "
+     "images", "b", "a",
      "an orthophoto on the DTM leaves the roofs displaced by the relief displacement; only "
-     "a true orthophoto puts them on their footprints"),
+     "a true orthophoto on the DSM puts them on their footprints, the ground one image "
+     "cannot see filled from the overlapping images"),
     ("a flat, almost plane façade is to be measured from one image with four control points",
      "c", "a", "for a plane object plane rectification is exact and needs no height model"),
     ("a map base of open, hilly farmland without buildings, at constant scale", "a", "c",
