@@ -51,7 +51,8 @@ def task(exercise_id: str) -> Params:
     if not sid:
         print("STUDENT_ID is empty: set it in the first cell (your numbers depend on it).")
     params = parameters_for(ex, sid)
-    print(f"{ex.id} ({ex.points:g} points) {ex.title}\n{ex.statement.format(**params)}")
+    unit = "point" if ex.points == 1 else "points"
+    print(f"{ex.id} ({ex.points:g} {unit}) {ex.title}\n{ex.statement.format(**params)}")
     return params
 
 
