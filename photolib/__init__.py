@@ -33,6 +33,7 @@ _EXPORTS = {
     "monoplot": "collinearity", "project": "collinearity",
     "ConvergenceReport": "distortion", "Distortion": "distortion",
     "DistortionDivergenceError": "distortion", "OpenCVFit": "distortion",
+    "PlumbLineResult": "calibration", "plumb_line": "calibration",
     "image_from_pixel": "pixels", "pixel_from_image": "pixels",
     # COLMAP and Agisoft Metashape (docs/conventions.md, "Other software")
     "MetashapeInterior": "conversions", "colmap_from_pixel": "conversions",

@@ -228,3 +228,51 @@ def test_frustum_apex_and_direction():
 def test_lines_xyz_separates_segments_with_nan():
     x, _y, _z = lines_xyz(np.arange(12.0).reshape(2, 2, 3))
     assert np.isnan(x[2]) and x.tolist()[:2] == [0.0, 3.0]
+
+
+# -- chapter 05: plumb-line calibration helpers ------------------------------------------------
+def test_plumb_line_images_are_distorted_straight_lines_off_the_centre():
+    lens = pl.Distortion(A1=-4e-5)
+    ideal, measured = nd.plumb_line_images(lens, noise_um=0.0, extent=0.5)
+    assert len(ideal) == 2 * len(nd.PLUMB_FRACTIONS)
+    for p, m in zip(ideal, measured):
+        np.testing.assert_allclose(m, lens.distort(p), atol=1e-12)
+        # each ideal line is straight and misses the principal point
+        assert np.linalg.svd(p - p.mean(axis=0), compute_uv=False)[1] < 1e-12
+        assert min(abs(p[0, 0]), abs(p[0, 1])) > 0.3 * 0.5 * 12.0
+        assert np.abs(p).max(axis=0).tolist() <= [9.0 + 1e-12, 6.0 + 1e-12]
+    full, noisy = nd.plumb_line_images(lens, noise_um=1.0, seed=4)
+    _, again = nd.plumb_line_images(lens, noise_um=1.0, seed=4)
+    assert np.array_equal(np.concatenate(noisy), np.concatenate(again))  # fixed seed
+    noise = np.concatenate(noisy) - lens.distort(np.concatenate(full))
+    assert 0.8e-3 < noise.std() < 1.2e-3  # 1 µm per coordinate
+
+
+def test_plumb_line_summary_and_figure():
+    import photolib.calibration as cal
+
+    lens = pl.Distortion(A1=-4e-5, A2=2e-8)
+    _, measured = nd.plumb_line_images(lens, seed=3)
+    fit = cal.plumb_line(measured, c=35.0)
+    text = nd.plumb_line_summary(fit, true=lens)
+    assert text.count("±") == 2 and "σ0 = 1.05 µm" in text and "error" in text
+    assert nd._pm(-2.0312e-5, 6.1e-7, "mm⁻²") == "(-2.031 ± 0.061)e-05 mm⁻²"
+    fig = nd.plot_plumb_lines(measured, fit)
+    assert len(fig.axes) == 2 and len(fig.axes[1].lines) == 1 + 2 * len(measured)
+
+
+def test_plumb_line_exaggeration_moves_points_off_their_line_only():
+    pts = np.array([[0.0, 1.0], [1.0, 1.2], [2.0, 1.0]])
+    shown = nd._exaggerated(pts, np.pi / 2, 1.0, 10.0)   # the line y = 1
+    np.testing.assert_allclose(shown, [[0.0, 1.0], [1.0, 3.0], [2.0, 1.0]])
+
+
+def test_coverage_experiment_shows_that_filling_the_format_matters():
+    lens = pl.Distortion(A1=-4e-5, A2=2e-8)
+    part, full = nd.coverage_experiment(lens, extents=(0.35, 1.0))
+    assert part["extent"] == 0.35 and full["extent"] == 1.0
+    assert part["sigma_corner_um"] > 100 * full["sigma_corner_um"]
+    assert abs(full["error_corner_um"]) < 3 * full["sigma_corner_um"]
+    # the σ at the corner is the covariance propagated to Δr′(r_corner)
+    r = float(np.hypot(*nd.HALF))
+    assert full["sigma_corner_um"] == pytest.approx(float(full["fit"].radial_sigma(r)) * 1e3)

@@ -11,10 +11,12 @@ import cv2
 import matplotlib
 import numpy as np
 import pytest
+import sympy as sp
 
 matplotlib.use("Agg")
 
 import photolib as pl  # noqa: E402
+from photolib.derive import sensors as ds  # noqa: E402
 from photolib.nb import intro as ni  # noqa: E402
 from photolib.nb import sensors as ns  # noqa: E402
 
@@ -182,3 +184,54 @@ def test_static_figures_of_chapter_01():
 ])
 def test_every_value_redraws(cls, name, values):
     assert_every_value_redraws(cls, name, values)
+
+
+# -- image pyramid and exposure (chapter 03) ------------------------------------------------
+def test_image_pyramid_matches_opencv_area_resampling():
+    rng = np.random.default_rng(5)
+    img = rng.uniform(0, 1, (64, 48)).astype(np.float64)
+    levels = ns.image_pyramid(img)
+    g = img
+    for level in levels[1:5]:
+        g = cv2.resize(g, (g.shape[1] // 2, g.shape[0] // 2), interpolation=cv2.INTER_AREA)
+        np.testing.assert_allclose(level, g, atol=1e-12)
+
+
+def test_image_pyramid_odd_sizes_and_colour():
+    img = np.random.default_rng(1).uniform(0, 1, (7, 5, 3))
+    levels = ns.image_pyramid(img)
+    assert [lv.shape[:2] for lv in levels] == ns.pyramid_shapes(img.shape)
+    assert all(lv.shape[2] == 3 for lv in levels)
+    # the last, odd row is repeated: its block mean is the mean of the row's two pixels
+    np.testing.assert_allclose(levels[1][3, 0], img[6, 0:2].mean(axis=0))
+
+
+def test_pyramid_storage_approaches_one_third():
+    shapes = ns.pyramid_shapes((4096, 4096))
+    extra = sum(r * c for r, c in shapes[1:]) / 4096**2
+    n = len(shapes) - 1
+    assert extra == pytest.approx(float(ds.pyramid_overhead(n)), abs=1e-15)
+    assert extra < float(ds.pyramid_overhead()) == pytest.approx(1 / 3)
+    assert sp.Rational(1, 3) - ds.pyramid_overhead(n) == sp.Rational(1, 3) / 4**n
+
+
+@pytest.mark.parametrize("bad", [(0, 3), (3,), "ab"])
+def test_pyramid_shapes_rejects_bad_shapes(bad):
+    with pytest.raises(ValueError, match="shape"):
+        ns.pyramid_shapes(bad)
+
+
+def test_image_pyramid_rejects_bad_rank():
+    with pytest.raises(ValueError, match=r"\(5,\)"):
+        ns.image_pyramid(np.zeros(5))
+
+
+def test_exposure_report_against_direct_quantisation():
+    scene = np.linspace(0.0, 1.0, 101)
+    for factor in (0.25, 1.0, 2.0):
+        rep = ns.exposure_report(factor, scene, full_well_e=1000.0, bits=8)
+        expected = np.clip(np.rint(factor * scene * 255), 0, 255)
+        np.testing.assert_array_equal(rep["dn"], expected)
+        assert rep["clipped"] == pytest.approx(np.mean(factor * scene > 1.0))
+    with pytest.raises(ValueError, match="-1"):
+        ns.exposure_report(-1)

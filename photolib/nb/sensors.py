@@ -5,7 +5,11 @@
 * :class:`AliasingExplorer`: a sine pattern on a 5 µm pixel grid: frequency and fill factor →
   samples, the alias the samples show, and the pixel MTF;
 * :class:`BayerExplorer`: stripe frequency of a grey test chart → the false colours of the
-  bilinear demosaic (Farbinterpolation).
+  bilinear demosaic (Farbinterpolation);
+* :func:`exposure_report`, :func:`plot_exposure`: a scene under-, well and over-exposed
+  (Unter- / Überbelichtung): clipped pixels, grey values used, SNR;
+* :func:`pyramid_shapes`, :func:`image_pyramid`, :func:`plot_pyramid`: an image pyramid
+  (Bildpyramide) of 2 × 2 block means, as VSD builds it (Polish notes).
 
 All numbers come from :mod:`photolib.sensors`.
 """
@@ -26,10 +30,16 @@ __all__ = [
     "bayer_report",
     "demo_image",
     "demo_profile",
+    "exposure_report",
+    "image_pyramid",
     "plot_bayer",
+    "plot_exposure",
     "plot_mtf",
+    "plot_pyramid",
     "plot_snr",
+    "pyramid_shapes",
     "quantisation_report",
+    "siemens_star",
     "stripe_chart",
 ]
 
@@ -173,6 +183,189 @@ def bayer_report(period_px: float, pattern: str = "RGGB", size: int = 48) -> dic
     return {"scene": scene, "mosaic": mosaic, "rgb": rgb, "false_colour": false, "html": html}
 
 
+def siemens_star(size: int = 128, spokes: int = 24) -> np.ndarray:
+    """A grey Siemens star in [0, 1]: black and white sectors that get finer towards the centre.
+
+    Parameters
+    ----------
+    size : int
+        Rows and columns of the image, pixels, ≥ 2.
+    spokes : int
+        Number of white sectors, ≥ 1.
+
+    Returns
+    -------
+    ndarray, shape (size, size)
+        0.5 + 0.5·sign(cos(spokes·θ)) with θ the angle about the image centre; 0.5 outside
+        the inscribed circle.
+
+    Examples
+    --------
+    >>> star = siemens_star(8, 4)
+    >>> star.shape, sorted(set(star.ravel().tolist()))
+    ((8, 8), [0.0, 0.5, 1.0])
+    """
+    n, m = int(size), int(spokes)
+    if n < 2 or m < 1:
+        raise ValueError(f"siemens_star needs size ≥ 2 and spokes ≥ 1, got size={size!r}, "
+                         f"spokes={spokes!r}")
+    r, c = (np.mgrid[0:n, 0:n] - (n - 1) / 2) / ((n - 1) / 2)
+    star = 0.5 + 0.5 * np.sign(np.cos(m * np.arctan2(r, c)))
+    return np.where(np.hypot(r, c) <= 1.0, star, 0.5)
+
+
+def exposure_report(factor: float, scene=None, full_well_e: float = 20000.0,
+                    read_noise_e: float = 5.0, bits: int = 12) -> dict:
+    """A scene exposed at ``factor`` times the nominal exposure: what the sensor makes of it.
+
+    At ``factor = 1`` the brightest point of the scene just fills the full well. The exposure
+    H = E·t ∝ t/k² (chapter 02), so ``factor`` is the change of t/k²: 1/4 is two stops
+    less light (under-exposure, Unterbelichtung), 4 two stops more (over-exposure,
+    Überbelichtung).
+
+    Parameters
+    ----------
+    factor : float
+        Exposure relative to the nominal one, dimensionless, > 0.
+    scene : array_like, optional
+        Relative radiance of the scene, any shape, values ≥ 0; scaled so that its largest
+        value is 1. Default: :func:`demo_image`.
+    full_well_e : float
+        Full well FW (Fassungsvermögen), electrons, > 0.
+    read_noise_e : float
+        Read noise σ_r, electrons, ≥ 0.
+    bits : int
+        Bit depth b of the converter; the gain is K = FW/(2^b − 1) e⁻/DN.
+
+    Returns
+    -------
+    dict
+        ``electrons`` S = factor·scene·FW (before clipping), ``dn`` (digital numbers, the
+        scene's shape), ``clipped`` (share of the pixels with S > FW: they all read the top DN
+        2^b − 1 and their detail is lost), ``levels_used`` (number of distinct DN),
+        ``snr_median`` (model SNR S/√(S + σ_r² + K²/12) of the median pixel, clipped at FW),
+        ``html``.
+
+    Examples
+    --------
+    >>> under, nominal, over = (exposure_report(f) for f in (0.125, 1.0, 4.0))
+    >>> nominal["clipped"], over["clipped"] > 0.5
+    (0.0, True)
+    >>> under["levels_used"] < nominal["levels_used"], under["snr_median"] < nominal["snr_median"]
+    (True, True)
+    """
+    f = float(factor)
+    if not np.isfinite(f) or f <= 0:
+        raise ValueError(f"exposure factor must be finite and > 0, got {factor!r}")
+    img = demo_image() if scene is None else np.asarray(scene, dtype=float)
+    if img.size == 0 or not np.all(np.isfinite(img)) or np.min(img) < 0 or np.max(img) <= 0:
+        raise ValueError("scene must be non-empty, finite, ≥ 0 and not all zero")
+    img = img / np.max(img)
+    electrons = f * img * full_well_e
+    gain = ps.gain_e_per_dn(full_well_e, bits)
+    dn = ps.quantise(electrons, bits, full_well_e)
+    clipped = float(np.mean(electrons > full_well_e))
+    levels = int(np.unique(dn).size)
+    snr_med = float(ps.snr(min(float(np.median(electrons)), full_well_e), read_noise_e, gain))
+    html = (f"<p>exposure × {f:g} ({np.log2(f):+.1f} stops): {100 * clipped:.1f} % of the "
+            f"pixels clipped at DN {2 ** int(bits) - 1}, {levels} grey values used, SNR of the "
+            f"median pixel {snr_med:.0f}</p>")
+    return {"electrons": electrons, "dn": dn, "clipped": clipped, "levels_used": levels,
+            "snr_median": snr_med, "html": html}
+
+
+def pyramid_shapes(shape, min_size: int = 1) -> list[tuple[int, int]]:
+    """Image sizes of the levels of an image pyramid (Bildpyramide).
+
+    Each level halves the rows and columns of the one before, rounding up (an odd last row or
+    column is kept), until the larger side is at most ``min_size``.
+
+    Parameters
+    ----------
+    shape : tuple of int
+        (rows, columns) of the original image, pixels, each ≥ 1 (further entries, e.g.
+        colour channels, are ignored).
+    min_size : int
+        The pyramid stops at the first level whose larger side is ≤ ``min_size``, pixels, ≥ 1.
+
+    Returns
+    -------
+    list of (int, int)
+        Level 0 (the original) first; level i + 1 has ⌈n_i/2⌉ rows and columns.
+
+    Examples
+    --------
+    >>> pyramid_shapes((10, 7))
+    [(10, 7), (5, 4), (3, 2), (2, 1), (1, 1)]
+    >>> pyramid_shapes((10_000, 10_000), min_size=512)[-1]
+    (313, 313)
+    """
+    try:
+        rows, cols = (int(v) for v in tuple(shape)[:2])
+    except (TypeError, ValueError):
+        raise ValueError(f"shape must start with (rows, columns), got {shape!r}") from None
+    if rows < 1 or cols < 1 or int(min_size) < 1:
+        raise ValueError(f"pyramid_shapes needs rows, columns and min_size ≥ 1, got "
+                         f"shape={shape!r}, min_size={min_size!r}")
+    out = [(rows, cols)]
+    while max(out[-1]) > int(min_size):
+        r, c = out[-1]
+        out.append((-(-r // 2), -(-c // 2)))
+    return out
+
+
+def image_pyramid(image, min_size: int = 1) -> list[np.ndarray]:
+    """An image pyramid (Bildpyramide): each level the 2 × 2 block means of the one before.
+
+    Averaging the block before keeping one pixel per block is a low-pass filter: a pattern
+    finer than the new Nyquist frequency is smoothed out instead of aliased (section 'Sampling
+    and aliasing'). An odd last row or column is repeated before averaging, so the sizes are
+    those of :func:`pyramid_shapes`.
+
+    Parameters
+    ----------
+    image : array_like, shape (rows, cols) or (rows, cols, channels)
+        Grey values (any unit; the levels keep it).
+    min_size : int
+        Stop at the first level whose larger side is ≤ ``min_size`` pixels, ≥ 1.
+
+    Returns
+    -------
+    list of ndarray
+        Level 0 is the image (as float); level i + 1 is, for every block,
+
+        .. math:: g_{i+1}(r, c) = \\tfrac14 \\sum_{u, v \\in \\{0, 1\\}} g_i(2r + u, 2c + v)
+
+    Examples
+    --------
+    >>> img = np.arange(16.0).reshape(4, 4)
+    >>> levels = image_pyramid(img)
+    >>> [level.shape for level in levels]
+    [(4, 4), (2, 2), (1, 1)]
+    >>> levels[1]
+    array([[ 2.5,  4.5],
+           [10.5, 12.5]])
+
+    The same blocks summed one by one (an independent route):
+
+    >>> loop = [[sum(img[2 * r + u, 2 * c + v] for u in (0, 1) for v in (0, 1)) / 4
+    ...          for c in range(2)] for r in range(2)]
+    >>> bool(np.array_equal(levels[1], loop)), float(levels[2][0, 0]) == float(img.mean())
+    (True, True)
+    """
+    g = np.asarray(image, dtype=float)
+    if g.ndim not in (2, 3) or g.shape[0] < 1 or g.shape[1] < 1:
+        raise ValueError(f"image must have shape (rows, cols) or (rows, cols, channels), "
+                         f"got {g.shape}")
+    levels = [g]
+    for _ in pyramid_shapes(g.shape, min_size)[1:]:
+        g = levels[-1]
+        pad = [(0, g.shape[0] % 2), (0, g.shape[1] % 2)] + [(0, 0)] * (g.ndim - 2)
+        g = np.pad(g, pad, mode="edge")
+        levels.append(0.25 * (g[0::2, 0::2] + g[1::2, 0::2] + g[0::2, 1::2] + g[1::2, 1::2]))
+    return levels
+
+
 # -- static figures -------------------------------------------------------------------------------
 
 def plot_snr(full_well_e: float = 20000.0, read_noise_e: float = 5.0, gain: float = 5.0):
@@ -224,6 +417,42 @@ def plot_bayer(rgb, pattern: str = "RGGB", title: str = "Bayer mosaic and biline
         ax.set(title=name, xticks=[], yticks=[])
         ax.grid(False)
     fig.suptitle(title, fontsize=10)
+    return finished(fig)
+
+
+def plot_exposure(factors=(0.125, 1.0, 2.0), scene=None, full_well_e: float = 20000.0,
+                  bits: int = 12):
+    """The scene of :func:`exposure_report` at several exposures; clipped pixels in red."""
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, len(factors), figsize=(2.4 * len(factors), 2.9))
+    for ax, f in zip(np.atleast_1d(axes), factors):
+        rep = exposure_report(f, scene, full_well_e=full_well_e, bits=bits)
+        rgb = _rgb8(rep["dn"] / (2 ** int(bits) - 1))
+        rgb[rep["electrons"] > full_well_e] = (214, 39, 40)
+        ax.imshow(rgb, interpolation="nearest")
+        ax.set(xticks=[], yticks=[], title=f"exposure × {f:g}\n{100 * rep['clipped']:.0f} % "
+               f"clipped, {rep['levels_used']} DN")
+        ax.title.set_fontsize(9)
+        ax.grid(False)
+    fig.suptitle("under-, well, over-exposed / unter-, richtig, überbelichtet", fontsize=10)
+    fig.subplots_adjust(0.02, 0.02, 0.98, 0.78, wspace=0.08)
+    return finished(fig)
+
+
+def plot_pyramid(image, levels: int = 4):
+    """The first ``levels`` + 1 levels of :func:`image_pyramid`, each at the same display size."""
+    import matplotlib.pyplot as plt
+
+    pyr = image_pyramid(image)[: int(levels) + 1]
+    fig, axes = plt.subplots(1, len(pyr), figsize=(1.75 * len(pyr), 2.2))
+    for i, (ax, g) in enumerate(zip(np.atleast_1d(axes), pyr)):
+        ax.imshow(_rgb8(g), interpolation="nearest")
+        ax.set(xticks=[], yticks=[], title=f"level {i}: {g.shape[1]} × {g.shape[0]}")
+        ax.title.set_fontsize(9)
+        ax.grid(False)
+    fig.suptitle("image pyramid / Bildpyramide: 2 × 2 pixels → 1 per level", fontsize=10)
+    fig.subplots_adjust(0.01, 0.02, 0.99, 0.78, wspace=0.06)
     return finished(fig)
 
 

@@ -39,7 +39,7 @@ def _letter(options, index):
 
 
 # -- 1. classes (choice) --------------------------------------------------------------------------
-_CLASSES = ("single-image photogrammetry (Einbildphotogrammetrie)",
+_CLASSES = ("single-image photogrammetry (Einzelbildphotogrammetrie)",
             "stereo photogrammetry (Stereophotogrammetrie)",
             "multi-image photogrammetry (Mehrbildphotogrammetrie)",
             "analogue photogrammetry (analoge Photogrammetrie)")

@@ -3,7 +3,8 @@
 * ``io.field-angle`` (number): the half angle of view of a close-range camera;
 * ``io.radial-factor`` (expression): the radial distortion model written with SymPy;
 * ``io.image-vector`` (array): a measured point corrected into the image vector x*;
-* ``io.measured-position`` (function): where an ideal image point is measured (iteration).
+* ``io.measured-position`` (function): where an ideal image point is measured (iteration);
+* ``io.plumb-line`` (array): A1 and its σ from a plumb-line calibration (Plumblines).
 
 Course conventions (docs/conventions.md): c > 0, ``x* = (x' − x'0 − Δx', y' − y'0 − Δy', −c)``,
 ``Δ = distorted − ideal`` evaluated at the **measured** point reduced to the principal point.
@@ -69,12 +70,13 @@ def _field_tolerance(p):
 
 field_angle = Exercise(
     id="io.field-angle", points=2, kind="number", answer="tau_deg",
-    title="Half angle of view (halber Bildwinkel)",
+    title="Half format angle (halber Formatwinkel / Bildwinkel)",
     statement="A close-range camera has a sensor of {W} × {H} pixels of {pixel_um} µm "
               "(Pixelgröße) and the camera constant c = {c_mm} mm (Kamerakonstante); the "
               "principal point (Bildhauptpunkt) is at the centre of the format. Compute the "
-              "field angle τ (Feldwinkel) of a ray to a corner of the image format, i.e. the "
-              "half angle of view (halber Bildwinkel) over the diagonal, in degrees.",
+              "angle τ between the optical axis and the ray to a corner of the image format, "
+              "i.e. half the format angle over the diagonal (halber Formatwinkel or "
+              "Bildwinkel, tan τ = r′/c), in degrees.",
     parameters=_field_params, reference=_field_angle, tolerance=_field_tolerance,
     mistakes=(
         hints.scaled_parameter(_field_angle, "pixel_um", 1000.0, "units-mm-m",
@@ -106,7 +108,10 @@ def _radial_params(rng):
             "coefficients": ", ".join(f"A{i}" for i in range(1, terms + 1)),
             "model": "balanced with the radius r0 (symbol r0) where Δr′ = 0"
                      if balanced else "unbalanced (Seidel form, r0 = 0)",
-            "what": _QUANTITIES[quantity]}
+            "what": _QUANTITIES[quantity],
+            "names": ", ".join((["r"] if quantity == "factor" else ["x", "y"])
+                               + [f"A{i}" for i in range(1, terms + 1)]
+                               + (["r0"] if balanced else []))}
 
 
 def _radial(p, balanced=None, divide=True):
@@ -129,7 +134,7 @@ radial_factor = Exercise(
     symbols=("r", "x", "y", "A1", "A2", "A3", "r0"),
     title="Radial-symmetric distortion (radialsymmetrische Verzeichnung)",
     statement="Write with SymPy {what}, for the radial-symmetric distortion with the "
-              "coefficients {coefficients}, {model}. Use the symbols r, x, y, A1, A2, A3, r0 "
+              "coefficients {coefficients}, {model}. Use the symbols {names} and no others "
               "(sympy.symbols(...)).",
     parameters=_radial_params, reference=_radial,
     mistakes=(
@@ -237,4 +242,67 @@ measured_position = Exercise(
     ))
 
 
-EXERCISES = (field_angle, radial_factor, image_vector, measured_position)
+# -- 5. plumb-line calibration (array) ------------------------------------------------------------
+#: plumb-line positions as fractions of the half format (36 mm × 24 mm), none through the centre
+_PLUMB_FRACTIONS = (-0.8, -0.4, 0.35, 0.75)
+_PLUMB_HALF = (18.0, 12.0)
+
+
+def _plumb_params(rng):
+    import photolib as pl
+    p = {"A1": _sig(-rng.uniform(2e-5, 6e-5)), "c_mm": round(float(rng.uniform(20.0, 50.0)), 1),
+         "noise_um": 0.5}
+    lens = pl.Distortion(A1=p["A1"])
+    hw, hh = _PLUMB_HALF
+    s = np.linspace(-1.0, 1.0, 13)
+    lines = [np.column_stack([hw * s, np.full(13, f * hh)]) for f in _PLUMB_FRACTIONS]
+    lines += [np.column_stack([np.full(13, f * hw), hh * s]) for f in _PLUMB_FRACTIONS]
+    # measured = distorted + noise, printed to 0.1 µm
+    p["lines"] = [np.round(lens.distort(q) + rng.normal(0.0, p["noise_um"] / 1000.0, q.shape),
+                           4).tolist() for q in lines]
+    p["first"] = _fmt_point(p["lines"][0][0])
+    return p
+
+
+def _fmt_point(xy):
+    return "(" + ", ".join(f"{v:.4f}" for v in xy) + ")"
+
+
+def _plumb_fit(p):
+    from photolib.calibration import plumb_line
+    return plumb_line([np.array(q) for q in p["lines"]], c=p["c_mm"], terms=("A1",))
+
+
+def _plumb(p, sign=1.0, scaled=True):
+    fit = _plumb_fit(p)
+    sigma = fit.sigma["A1"] if scaled else fit.sigma["A1"] / fit.sigma0
+    return np.array([sign * fit.distortion.params["A1"], sigma])
+
+
+def _plumb_tolerance(p):
+    """A tenth of σ(A1): every least-squares solution of the same model agrees far better;
+    an estimate with another model (e.g. with A2, or Δ at the ideal point) does not."""
+    return 0.0, 0.1 * _plumb_fit(p).sigma["A1"]
+
+
+plumb_line_exercise = Exercise(
+    id="io.plumb-line", points=3, kind="array", answer="plumb",
+    title="Plumb-line calibration (Kalibrierung mit Lotlinien, Plumblines)",
+    statement="Eight lines that are straight in object space were imaged by a camera with "
+              "c = {c_mm} mm (Kamerakonstante). Their measured points, in mm and reduced to the "
+              "principal point (Bildhauptpunkt), are in p.lines: a list of 8 lines, each a "
+              "list of 13 points (x′, y′); the first point is {first}. The coordinates have "
+              "a noise of about {noise_um} µm. Estimate the radial distortion coefficient A1 "
+              "of the course model (Seidel form, r0 = 0, no other distortion term) so that "
+              "the corrected points of every line are collinear, and give the NumPy array "
+              "[A1, σ(A1)] in mm⁻², σ(A1) being the a-posteriori standard deviation of the "
+              "least-squares estimate (scaled by σ0).",
+    parameters=_plumb_params, reference=_plumb, tolerance=_plumb_tolerance,
+    mistakes=(
+        Mistake("sign-distortion", _SIGN_DISTORTION, lambda p: _plumb(p, sign=-1.0)),
+        Mistake("unscaled-sigma", "σ(A1) must be scaled by the a-posteriori σ0: "
+                                  "σ(A1) = σ0·√Q(A1, A1)", lambda p: _plumb(p, scaled=False)),
+    ))
+
+
+EXERCISES = (field_angle, radial_factor, image_vector, measured_position, plumb_line_exercise)
