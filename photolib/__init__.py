@@ -61,6 +61,7 @@ _EXPORTS = {
     "circle_from_conic": "fitting", "conic_to_ellipse": "fitting", "fit_ellipse": "fitting",
     "fit_plane": "fitting", "plane_through_points": "fitting",
     "LSMResult": "matching", "least_squares_matching": "matching",
+    "StartOutsideImageError": "matching",
     # chapters 01 and 03: digital images and sensors (quantisation, noise, colour, sampling, GSD)
     "DynamicRange": "sensors", "FlightBlock": "sensors", "alias_frequency": "sensors",
     "bayer_masks": "sensors", "bayer_mosaic": "sensors", "bits_for_levels": "sensors",

@@ -1,13 +1,23 @@
 """Angle units. Every function of photolib takes radians; these helpers convert.
 
 400 gon = 360° = 2π rad (gon, also grad / Neugrad, is the unit of German surveying).
+NaN, text and complex numbers raise ``ValueError`` naming the argument ``a``; the unit
+conversions turn ±inf into ±inf, :func:`wrap_angle` refuses it (no direction).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from photolib._validate import as_array
+
 __all__ = ["deg2rad", "rad2deg", "gon2rad", "rad2gon", "deg2gon", "gon2deg", "wrap_angle"]
+
+
+def _angle(a):
+    """``a`` as a float array; NaN, strings and complex numbers raise ``ValueError`` naming
+    ``a`` (±inf passes: a unit conversion of inf is inf)."""
+    return as_array(a, "a", finite=False)
 
 
 def deg2rad(a):
@@ -21,7 +31,7 @@ def deg2rad(a):
     Returns
     -------
     ndarray of float, same shape as ``a``
-        The angle in radians; a 0-d array for a scalar input.
+        The angle in radians; a NumPy float (``np.float64``) for a scalar input.
 
     Notes
     -----
@@ -32,7 +42,7 @@ def deg2rad(a):
     >>> float(deg2rad(180.0))
     3.141592653589793
     """
-    return np.asarray(a, dtype=float) / 180.0 * np.pi
+    return _angle(a) / 180.0 * np.pi
 
 
 def rad2deg(a):
@@ -46,7 +56,7 @@ def rad2deg(a):
     Returns
     -------
     ndarray of float, same shape as ``a``
-        The angle in degrees (°, 360° per turn); a 0-d array for a scalar input.
+        The angle in degrees (°, 360° per turn); a NumPy float (``np.float64``) for a scalar input.
 
     Notes
     -----
@@ -57,7 +67,7 @@ def rad2deg(a):
     >>> float(rad2deg(np.pi / 2))
     90.0
     """
-    return np.asarray(a, dtype=float) / np.pi * 180.0
+    return _angle(a) / np.pi * 180.0
 
 
 def gon2rad(a):
@@ -71,7 +81,7 @@ def gon2rad(a):
     Returns
     -------
     ndarray of float, same shape as ``a``
-        The angle in radians; a 0-d array for a scalar input.
+        The angle in radians; a NumPy float (``np.float64``) for a scalar input.
 
     Notes
     -----
@@ -82,7 +92,7 @@ def gon2rad(a):
     >>> float(gon2rad(100.0)) == np.pi / 2
     True
     """
-    return np.asarray(a, dtype=float) / 200.0 * np.pi
+    return _angle(a) / 200.0 * np.pi
 
 
 def rad2gon(a):
@@ -96,7 +106,7 @@ def rad2gon(a):
     Returns
     -------
     ndarray of float, same shape as ``a``
-        The angle in gon (Neugrad, 400 gon per turn); a 0-d array for a scalar input.
+        The angle in gon (Neugrad, 400 gon per turn); a NumPy float (``np.float64``) for a scalar input.
 
     Notes
     -----
@@ -107,7 +117,7 @@ def rad2gon(a):
     >>> float(rad2gon(np.pi))
     200.0
     """
-    return np.asarray(a, dtype=float) / np.pi * 200.0
+    return _angle(a) / np.pi * 200.0
 
 
 def deg2gon(a):
@@ -121,7 +131,7 @@ def deg2gon(a):
     Returns
     -------
     ndarray of float, same shape as ``a``
-        The angle in gon (Neugrad, 400 gon per turn); a 0-d array for a scalar input.
+        The angle in gon (Neugrad, 400 gon per turn); a NumPy float (``np.float64``) for a scalar input.
 
     Notes
     -----
@@ -132,7 +142,7 @@ def deg2gon(a):
     >>> float(deg2gon(90.0))
     100.0
     """
-    return np.asarray(a, dtype=float) * (400.0 / 360.0)
+    return _angle(a) * (400.0 / 360.0)
 
 
 def gon2deg(a):
@@ -146,7 +156,7 @@ def gon2deg(a):
     Returns
     -------
     ndarray of float, same shape as ``a``
-        The angle in degrees (°, 360° per turn); a 0-d array for a scalar input.
+        The angle in degrees (°, 360° per turn); a NumPy float (``np.float64``) for a scalar input.
 
     Notes
     -----
@@ -157,7 +167,7 @@ def gon2deg(a):
     >>> float(gon2deg(50.0))
     45.0
     """
-    return np.asarray(a, dtype=float) * (360.0 / 400.0)
+    return _angle(a) * (360.0 / 400.0)
 
 
 def wrap_angle(a):
@@ -166,16 +176,21 @@ def wrap_angle(a):
     Parameters
     ----------
     a : float or array_like, any shape
-        Angle in radians, any value (e.g. a difference of two directions).
+        Angle in radians, any finite value (e.g. a difference of two directions); NaN and
+        ±inf have no direction and raise ``ValueError``.
 
     Returns
     -------
     ndarray of float, same shape as ``a``
-        The same direction in radians, in [−π, π); a 0-d array for a scalar input.
+        The same direction in radians, in [−π, π); a NumPy float (``np.float64``) for a
+        scalar input.
 
     Notes
     -----
     .. math:: a_{\\mathrm{wrapped}} = ((a + π) \\bmod 2π) - π
+
+    Just below an odd multiple of −π, ``a + π`` is a tiny negative number whose remainder
+    rounds up to exactly 2π, which would give +π: such results are moved to −π.
 
     Examples
     --------
@@ -183,6 +198,9 @@ def wrap_angle(a):
     -1.5707963267948966
     >>> float(wrap_angle(np.pi))   # +π maps to −π
     -3.141592653589793
+    >>> float(wrap_angle(np.nextafter(-np.pi, -4.0)))   # not +π
+    -3.141592653589793
     """
-    a = np.asarray(a, dtype=float)
-    return (a + np.pi) % (2 * np.pi) - np.pi
+    a = as_array(a, "a")
+    w = np.mod(a + np.pi, 2 * np.pi) - np.pi
+    return np.where(w >= np.pi, w - 2 * np.pi, w)[()]

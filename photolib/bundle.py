@@ -536,11 +536,18 @@ def inner_constraints(points) -> np.ndarray:
               0 & 0 & 1 & \bar Y_i & -\bar X_i & 0 & \bar Z_i \end{pmatrix},\qquad
               \bar X_i = X_i - \tfrac1P \sum_j X_j
 
+    Raises
+    ------
+    DatumError
+        For fewer than 3 points, or points on a straight line (their singular values
+        σ2 ≤ 10⁻⁹·σ1 about the centroid): a rotation about that line moves none of them, so
+        B has rank < 7 and fixes no datum.
+
     Examples
     --------
-    >>> inner_constraints([[1.0, 0, 0], [-1.0, 0, 0]]).shape
-    (6, 7)
-    >>> B = inner_constraints([[1.0, 0, 0], [-1.0, 0, 0]])
+    >>> B = inner_constraints([[1.0, 0, 0], [-1.0, 0, 0], [0, 1.0, 0], [0, -1.0, 0]])
+    >>> B.shape, int(np.linalg.matrix_rank(B))
+    ((12, 7), 7)
     >>> (B[:3, 5] + 0.0).tolist()   # point (1, 0, 0): a rotation about Z moves it along +Y
     [0.0, 1.0, 0.0]
     >>> (B[:3, 6] + 0.0).tolist()   # the scale moves it away from the centroid
@@ -549,6 +556,19 @@ def inner_constraints(points) -> np.ndarray:
     P, single = as_points(points, 3, "points")  # finite: NaN would spread into every row
     if single:
         raise ValueError(f"points has shape {np.shape(points)}; expected (P, 3)")
+    if len(P) < 3:
+        raise DatumError(f"inner constraints need at least 3 points, got {len(P)}: fewer do not "
+                         "fix the 7 datum parameters (translation, rotation, scale)")
+    sv = np.linalg.svd(P - P.mean(axis=0), compute_uv=False)
+    if sv[1] <= 1e-9 * max(sv[0], 1e-300):
+        raise DatumError("the points of the inner constraints lie on a straight line (or "
+                         "coincide): the rotation about it is not fixed (B has rank < 7)")
+    return _inner_constraints(P)
+
+
+def _inner_constraints(P: np.ndarray) -> np.ndarray:
+    """:func:`inner_constraints` of validated points (P, 3), P ≥ 1, without the datum checks
+    (the bundle's own rank test reports a defect in its own words)."""
     Xc = P - P.mean(axis=0)
     x, y, z = Xc.T
     o, one = np.zeros(len(P)), np.ones(len(P))
@@ -753,7 +773,7 @@ def _check_geometry(j, i, ext, pts, sig, datum):
         rows = np.flatnonzero(use.any(axis=1))
         X = pts[rows]
         scale = float(np.max(np.ptp(X, axis=0))) or 1.0
-        B = inner_constraints(X).reshape(-1, 3, 7) * np.r_[1, 1, 1, [1 / scale] * 4]
+        B = _inner_constraints(X).reshape(-1, 3, 7) * np.r_[1, 1, 1, [1 / scale] * 4]
         B = B[use[rows]]
         sv = np.linalg.svd(B, compute_uv=False)
         rank = int(np.sum(sv > 1e-9 * sv[0])) if len(sv) else 0
@@ -1016,7 +1036,7 @@ def bundle_adjustment(xy, image_index, point_index, exterior, points, c, x0=0.0,
         Npy[s[:, None, None], np.arange(3)[:, None], cols[jm, None, :6]] = Wp[:, :, 3:9]
         Npy[:, :, 6 * M:6 * M + k] = Sp[:, :, 9:9 + k]
         if d:
-            Npy[:, :, 6 * M + k:] = inner_constraints(pts).reshape(P, 3, 7)[free]
+            Npy[:, :, 6 * M + k:] = _inner_constraints(pts).reshape(P, 3, 7)[free]
         bp, Npp = Sp[:, :, -1], Sp[:, :, :3]
         if partial or observed:
             Npp = Npp + diag_extra[:, :, None] * np.eye(3)

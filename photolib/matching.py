@@ -21,10 +21,20 @@ import numpy as np
 from photolib._validate import as_float_array, as_max_iter, as_tolerance, check_finite
 from photolib.transforms._base import ConvergenceError
 
-__all__ = ["PARAMETER_NAMES", "LSMResult", "least_squares_matching", "lsm_design_matrix"]
+__all__ = ["PARAMETER_NAMES", "LSMResult", "StartOutsideImageError", "least_squares_matching",
+           "lsm_design_matrix"]
 
 #: order of the eight unknowns
 PARAMETER_NAMES = ("a0", "a1", "a2", "b0", "b1", "b2", "r0", "r1")
+
+
+class StartOutsideImageError(ValueError, ConvergenceError):
+    """The start values put the patch outside the search image: bad input, no iteration ran.
+
+    A ``ValueError`` (the contract for bad input), and also a ``ConvergenceError`` so that
+    callers written for the earlier behaviour (``except ConvergenceError``) still catch it.
+    Its ``history`` attribute holds the start parameters, shape (1, 8).
+    """
 
 
 class LSMResult(NamedTuple):
@@ -155,6 +165,9 @@ def least_squares_matching(template, search, initial, *, tol: float = 1e-4, max_
     ValueError
         If the template is flat (no grey-value gradient: the shifts are undetermined) or the
         normal equations are singular.
+    StartOutsideImageError
+        A ``ValueError`` (and a ``ConvergenceError``, for older callers) naming ``initial``
+        when the patch at the start values does not lie inside the search image.
     ConvergenceError
         If the patch leaves the search image (divergence; the exception's ``history``
         attribute holds the iterates up to then) or the iteration limit is reached.
@@ -204,15 +217,18 @@ def least_squares_matching(template, search, initial, *, tol: float = 1e-4, max_
         if not (cols.min() >= 0 and rows.min() >= 0 and cols.max() <= W - 1
                 and rows.max() <= H - 1):                  # (NaN positions count as outside)
             if it == 1:  # not a divergence: the start itself does not fit
-                msg = (f"least-squares matching cannot start: the patch at the initial position "
-                       f"(centre col {a0:.2f}, row {b0:.2f}) does not lie inside the search "
-                       f"image of {W} × {H} pixels (the {f.shape[1]} × {f.shape[0]} template "
-                       "must fit into it); move the start away from the border")
+                given = [float(v) for v in np.ravel(as_float_array(initial, "initial"))]
+                start = f"({given[0]!r}, {given[1]!r})" if len(given) == 2 else repr(given)
+                err = StartOutsideImageError(
+                    f"least-squares matching cannot start: the patch at the initial position "
+                    f"initial = {start} (centre col {a0:.2f}, row {b0:.2f}) does not lie inside "
+                    f"the search image of {W} × {H} pixels (the {f.shape[1]} × {f.shape[0]} "
+                    "template must fit into it); move the start away from the border")
             else:
-                msg = (f"least-squares matching diverged: after {it - 1} iterations the patch "
-                       f"(centre col {a0:.2f}, row {b0:.2f}) leaves the search image of "
-                       f"{W} × {H} pixels")
-            err = ConvergenceError(msg)
+                err = ConvergenceError(
+                    f"least-squares matching diverged: after {it - 1} iterations the patch "
+                    f"(centre col {a0:.2f}, row {b0:.2f}) leaves the search image of "
+                    f"{W} × {H} pixels")
             err.history = np.array(history)
             raise err
         g, gx, gy = _bilinear(planes, W, cols, rows)

@@ -270,24 +270,63 @@ def log_kernel_1d(sigma, truncate: float = 4.0) -> tuple[np.ndarray, np.ndarray]
 
     .. math::
         g(x) = \frac{e^{-x^2/2σ^2}}{\sum_k e^{-k^2/2σ^2}}, \qquad
-        g''(x) = \left(\frac{x^2}{σ^4} - \frac{1}{σ^2}\right) g(x),
+        g''(x) ∝ \left(\frac{x^2}{σ^4} - \frac{1}{σ^2}\right) g(x),
 
     so that :math:`∇^2G(x, y) = g''(x)\,g(y) + g(x)\,g''(y)` (the 2-D Gaussian is the
-    product of two 1-D Gaussians). ``g`` sums to 1 (a flat image stays flat); ``g''`` is
-    shifted to sum 0 (a flat image gives LoG 0) and to ``Σ x²g''/2 = 1`` (a ramp x² has
-    Laplacian 2). The radius is :func:`gaussian_radius`.
+    product of two 1-D Gaussians). ``g`` sums to 1 (a flat image stays flat). The sampled
+    ``g''`` meets neither of its two conditions exactly (the tails are cut), so it is taken
+    from the same two-term family :math:`g'' = (α x^2 + β)\,g` with α, β fixed by
 
+    .. math:: \sum_x g''(x) = 0 \quad\text{(a flat image gives LoG 0)}, \qquad
+              \tfrac12 \sum_x x^2 g''(x) = 1 \quad\text{(the ramp } x^2
+              \text{ has Laplacian 2)}.
+
+    With the moments :math:`m_2 = \sum x^2 g` and :math:`\sum g = 1` the first condition
+    gives :math:`β = -α m_2`, the second :math:`α \sum x^2(x^2 - m_2) g = 2`, and as
+    :math:`\sum m_2 (x^2 - m_2) g = 0`,
+
+    .. math:: g''(x) = \frac{2\,(x^2 - m_2)\,g(x)}{\sum_k (k^2 - m_2)^2\,g(k)}.
+
+    Every term of the denominator is ≥ 0, so nothing cancels however small σ is (the former
+    shift-then-scale construction cancelled the centre tap completely below σ ≈ 0.12 px and
+    gave NaN below 0.03 px). With three taps (σ ≤ 0.25 px for ``truncate = 4``) the two
+    conditions leave only the discrete Laplacian ``[1, −2, 1]``; that is also the limit
+    σ → 0, returned once the outer taps of ``g`` underflow to 0 (σ ≲ 0.026 px). The radius
+    is :func:`gaussian_radius`.
+
+    Parameters
+    ----------
+    sigma : float
+        σ of the Gaussian in pixels, > 0.
+    truncate : float
+        Kernel half width in units of σ, > 0 (at least one pixel).
+
+    Returns
+    -------
+    g : ndarray, shape (2·radius + 1,)
+        The sampled Gaussian, dimensionless, sum 1.
+    g2 : ndarray, shape (2·radius + 1,)
+        The second-derivative kernel, per pixel², sum 0 and ``½Σx²g'' = 1``.
+
+    Examples
+    --------
     >>> g, g2 = log_kernel_1d(1.0)
-    >>> len(g), round(float(g.sum()), 12), round(float(g2.sum()), 12)
-    (9, 1.0, 0.0)
+    >>> len(g), round(float(g.sum()), 12), abs(float(g2.sum())) < 1e-15
+    (9, 1.0, True)
+    >>> (log_kernel_1d(0.1)[1] + 0.0).round(12).tolist()   # three taps: the discrete Laplacian
+    [1.0, -2.0, 1.0]
     """
     rad = gaussian_radius(sigma, truncate)
+    sigma = as_scalar(sigma, "sigma", positive=True)
     x = np.arange(-rad, rad + 1, dtype=float)
     g = np.exp(-(x**2) / (2.0 * sigma**2))
     g /= g.sum()
-    g2 = (x**2 / sigma**4 - 1.0 / sigma**2) * g
-    g2 -= g2.sum() * g          # exact zero sum (the sampled tails make it slightly ≠ 0)
-    g2 /= 0.5 * np.sum(x**2 * g2)
+    if g[rad + 1] == 0.0:       # σ → 0: g is the unit impulse, g'' the discrete Laplacian
+        g2 = np.zeros_like(g)
+        g2[rad - 1:rad + 2] = (1.0, -2.0, 1.0)
+        return g, g2
+    dev = x**2 - np.sum(x**2 * g)                  # x² − m2
+    g2 = (2.0 / np.sum(dev**2 * g)) * dev * g
     return g, g2
 
 

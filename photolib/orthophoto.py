@@ -187,6 +187,8 @@ class FrameCamera:
     X0 : (3,) projection centre (object unit); R : (3, 3) rotation camera → object
     (``R = R_ω·R_φ·R_κ``); c : camera constant (mm, > 0); width, height : image size in
     pixels; pixel_size : mm; x0, y0 : principal point (mm); distortion : Distortion or None.
+    ``X0`` and ``R`` are stored as read-only copies: changing the arrays passed in does not
+    move the camera (use :func:`dataclasses.replace` for a new pose).
 
     Examples
     --------
@@ -206,8 +208,12 @@ class FrameCamera:
     distortion: Distortion | None = None
 
     def __post_init__(self):
-        object.__setattr__(self, "X0", as_vector3(self.X0, "X0"))
-        object.__setattr__(self, "R", as_rotation(self.R))
+        # own read-only copies: a frozen camera must not change when the caller later reuses
+        # its arrays (as DTM copies its heights)
+        for name, arr in (("X0", as_vector3(self.X0, "X0")), ("R", as_rotation(self.R))):
+            arr = arr.copy()
+            arr.setflags(write=False)
+            object.__setattr__(self, name, arr)
         object.__setattr__(self, "c", as_scalar(self.c, "c", positive=True))
         object.__setattr__(self, "x0", as_scalar(self.x0, "x0"))
         object.__setattr__(self, "y0", as_scalar(self.y0, "y0"))
@@ -275,9 +281,9 @@ def relief_displacement(r, dh, H):
     >>> relief_displacement(80.0, 30.0, 1200.0)   # mm, m, m
     2.0
     """
-    r = np.asarray(r, dtype=float)
-    dh = np.asarray(dh, dtype=float)
-    H = np.asarray(H, dtype=float)
+    r = as_float_array(r, "r")
+    dh = as_float_array(dh, "dh")
+    H = as_float_array(H, "H")
     for v, n in ((r, "r"), (dh, "dh"), (H, "H")):
         check_finite(np.atleast_1d(v), n)
     if np.any(H <= 0):

@@ -751,3 +751,25 @@ def test_reliability_of_control_observations(mixed_control):
         bd.reliability(res, beta=1.0)
     with pytest.raises(TypeError, match="BundleResult"):
         bd.reliability({"sigma0": 1.0})
+
+
+# -- inner constraints need a datum to fix (audit B1) ----------------------------------------------
+
+@pytest.mark.parametrize("points, match", [
+    (np.zeros((0, 3)), "at least 3 points, got 0"),
+    ([[1.0, 0, 0], [-1.0, 0, 0]], "at least 3 points, got 2"),
+    ([[0.0, 0, 0], [1.0, 1, 1], [2.0, 2, 2], [-3.0, -3, -3]], "on a straight line"),
+    ([[1.0, 2, 3]] * 4, "on a straight line"),
+])
+def test_inner_constraints_refuse_too_few_or_collinear_points(points, match):
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")        # was: Mean of empty slice, a (0, 7) result
+        with pytest.raises(bd.DatumError, match=match):
+            bd.inner_constraints(points)
+
+
+def test_inner_constraints_of_three_points_have_rank_7():
+    B = bd.inner_constraints([[0.0, 0, 0], [1.0, 0, 0], [0.0, 1, 0.2]])
+    assert B.shape == (9, 7) and np.linalg.matrix_rank(B) == 7

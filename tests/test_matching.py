@@ -178,3 +178,24 @@ def test_complex_or_text_images_are_refused():
         least_squares_matching(f, g * (1 + 1e-3j), (31.0, 30.0))
     with pytest.raises(ValueError, match="initial must be numeric, got 'ab'"):
         least_squares_matching(f, g, "ab")
+
+
+# -- a start outside the image is bad input (audit L1) ---------------------------------------------
+
+@pytest.mark.parametrize("start", [(-20.0, -20.0), (3.0, 3.0), (30.0, 70.0)])
+def test_a_start_outside_the_image_is_a_value_error_naming_initial(start):
+    from photolib.matching import StartOutsideImageError
+
+    with pytest.raises(ValueError, match=r"initial = \(") as info:
+        least_squares_matching(_template(TRUE), _search(), start)
+    err = info.value
+    assert isinstance(err, StartOutsideImageError) and isinstance(err, ConvergenceError)
+    assert f"initial = ({start[0]!r}, {start[1]!r})" in str(err)
+    assert err.history.shape == (1, 8)
+
+
+def test_a_real_divergence_stays_a_convergence_error_only():
+    f = _template(np.r_[TRUE[0], 1, 0, TRUE[3], 0, 1, 0, 1])
+    with pytest.raises(ConvergenceError, match="diverged") as info:
+        least_squares_matching(f, _search(), (11.0, 11.0))
+    assert not isinstance(info.value, ValueError)

@@ -530,3 +530,74 @@ def test_image_functions_refuse_complex_and_text():
         fit_circle(np.column_stack([np.cos([0, 1, 2, 3.0]), np.sin([0, 1, 2, 3.0])]), max_iter=0)
     with pytest.raises(ValueError, match="tol must be > 0, got -1.0"):
         fit_circle(np.column_stack([np.cos([0, 1, 2, 3.0]), np.sin([0, 1, 2, 3.0])]), tol=-1.0)
+
+
+# -- LoG at small σ (audit M1) ---------------------------------------------------------------------
+
+def _three_tap_laplacian_from_the_constraints():
+    """The symmetric 3-tap kernel (a, b, a) with Σk = 0 and ½Σx²k = 1, solved by SymPy."""
+    a, b = sp.symbols("a b")
+    sol = sp.solve([2 * a + b, sp.Rational(1, 2) * (a + a) - 1], [a, b], dict=True)[0]
+    return np.array([sol[a], sol[b], sol[a]], dtype=float)
+
+
+def _old_kernel(sigma, truncate=4.0):
+    """The construction before the fix (shift to Σ = 0, then scale): right for σ ≳ 0.25."""
+    rad = gaussian_radius(sigma, truncate)
+    x = np.arange(-rad, rad + 1, dtype=float)
+    g = np.exp(-(x**2) / (2.0 * sigma**2))
+    g /= g.sum()
+    g2 = (x**2 / sigma**4 - 1.0 / sigma**2) * g
+    g2 -= g2.sum() * g
+    return g2 / (0.5 * np.sum(x**2 * g2))
+
+
+@pytest.mark.parametrize("sigma", np.geomspace(1e-3, 8.0, 41))
+def test_log_kernel_keeps_both_constraints_for_every_sigma(sigma):
+    """Σg'' = 0 (flat → 0) and ½Σx²g'' = 1 (∇²x² = 2) hold at every σ, finite, no warnings."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        g, g2 = log_kernel_1d(sigma)
+        L = log_filter(np.full((7, 9), 10.0), sigma)
+    x = np.arange(len(g)) - len(g) // 2
+    assert np.isfinite(g2).all() and abs(g.sum() - 1.0) < 1e-14
+    assert abs(g2.sum()) < 1e-12 * np.abs(g2).sum()
+    assert abs(0.5 * np.sum(x**2 * g2) - 1.0) < 1e-12
+    assert np.isfinite(L).all() and np.max(np.abs(L)) < 1e-10    # was 40 (σ = 0.1), NaN (0.02)
+
+
+@pytest.mark.parametrize("sigma", [1e-3, 0.02, 0.05, 0.1, 0.2, 0.25])
+def test_log_kernel_tends_to_the_discrete_laplacian(sigma):
+    """With 3 taps the two constraints leave one kernel: [1, −2, 1] (SymPy), for every σ."""
+    g, g2 = log_kernel_1d(sigma)
+    np.testing.assert_allclose(g2, _three_tap_laplacian_from_the_constraints(), rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("sigma", [1e-3, 0.02, 0.05])
+def test_log_filter_of_a_vanishing_sigma_is_scipys_discrete_laplacian(sigma):
+    """σ → 0: the Gaussian is the unit impulse, the LoG the 5-point Laplacian (mirrored border)."""
+    img = _scene(33, (20, 24))
+    np.testing.assert_allclose(log_filter(img, sigma), ndimage.laplace(img, mode="reflect"),
+                               rtol=0, atol=1e-9)
+
+
+def test_log_filter_near_the_three_tap_limit_is_the_blurred_discrete_laplacian():
+    """σ = 0.2 (3 taps, outer Gaussian taps 3.7e-6): SciPy's separable correlation with the
+    sampled Gaussian and the kernel of the two constraints (SymPy)."""
+    img = _scene(34, (20, 24))
+    sigma = 0.2
+    g = np.exp(-np.arange(-1, 2.0) ** 2 / (2 * sigma**2))
+    g /= g.sum()
+    lap = _three_tap_laplacian_from_the_constraints()
+    ref = (ndimage.correlate1d(ndimage.correlate1d(img, lap, axis=1, mode="reflect"), g, axis=0,
+                               mode="reflect")
+           + ndimage.correlate1d(ndimage.correlate1d(img, g, axis=1, mode="reflect"), lap, axis=0,
+                                 mode="reflect"))
+    np.testing.assert_allclose(log_filter(img, sigma), ref, rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("sigma", [0.3, 0.5, 1.0, 2.0, 4.0])
+def test_log_kernel_is_unchanged_where_the_old_construction_was_right(sigma):
+    np.testing.assert_allclose(log_kernel_1d(sigma)[1], _old_kernel(sigma), rtol=1e-11, atol=1e-13)

@@ -389,3 +389,61 @@ def test_pinhole_optimum_minimises_the_blur():
     res = optimize.minimize_scalar(blur, bounds=(0.01, 2.0), args=(lam, c), method="bounded",
                                    options={"xatol": 1e-10})
     assert math.isclose(d_star(lam, c), res.x, rel_tol=1e-6)
+
+
+# -- names of the distances, orders and indices (audit O1, O2) -------------------------------------
+
+def test_blur_diameter_blames_the_distance_that_is_wrong():
+    with pytest.raises(po.NoRealImageError, match=r"object distance a_x = 30.0 is not beyond"):
+        po.blur_diameter(30.0, 5000.0, 50.0, 8.0)
+    with pytest.raises(ValueError, match=r"object distance a_x must not be NaN"):
+        po.blur_diameter(np.nan, 5000.0, 50.0, 8.0)
+    with pytest.raises(po.NoRealImageError, match=r"focus distance a = 30.0 is not beyond"):
+        po.blur_diameter(5000.0, 30.0, 50.0, 8.0)
+    with pytest.raises(ValueError, match=r"focus distance a must be > 0"):
+        po.blur_diameter(5000.0, -1.0, 50.0, 8.0)
+    with pytest.raises(po.NoRealImageError, match=r"object distance a = 30.0 is not beyond"):
+        po.image_distance(30.0, 50.0)   # image_distance keeps its own name
+
+
+@pytest.mark.parametrize("n", [np.inf, np.nan, np.array([1, 2]), "1", True, 1.5, -1])
+def test_bessel_order_is_checked_as_an_integer(n):
+    with pytest.raises(ValueError, match="order n must be an integer"):
+        po.bessel_jn(n, 2.0)
+
+
+def test_bessel_accepts_integral_orders_of_any_type():
+    assert po.bessel_jn(np.int64(2), 2.0) == po.bessel_jn(2.0, 2.0) == po.bessel_jn(2, 2.0)
+
+
+def test_refract_broadcasts_indices_over_the_rays_like_refraction_angle():
+    alpha = np.array([0.2, 0.5, 0.9])
+    d = np.column_stack([np.sin(alpha), np.zeros(3), -np.cos(alpha)])
+    n1 = np.array([1.0, 1.2, 1.33])
+    t = po.refract(d, [0.0, 0.0, 1.0], n1, 1.5)
+    np.testing.assert_allclose(np.arcsin(t[:, 0]), po.refraction_angle(alpha, n1, 1.5), atol=1e-13)
+    one = po.refract(d[1], [0.0, 0.0, 1.0], n1, 1.5)            # one ray, three media
+    np.testing.assert_allclose(np.arcsin(one[:, 0]), po.refraction_angle(0.5, n1, 1.5), atol=1e-13)
+    assert po.refract(d[1], [0.0, 0.0, 1.0], 1.2, 1.5).shape == (3,)
+
+
+@pytest.mark.parametrize("n1, n2, match", [
+    (np.array([1.0, 1.2]), 1.5, r"refractive index n1 has shape \(2,\)"),
+    (1.0, np.ones((3, 1)), r"refractive index n2 has shape \(3, 1\)"),
+    (np.array([1.0, np.nan, 1.0]), 1.5, "refractive index n1 must not be NaN"),
+    (1.0, np.array([1.5, np.inf, 1.5]), "refractive index n2 must be finite"),
+    (1.0, np.array([1.5, -1.0, 1.5]), "refractive index n2 must be > 0"),
+])
+def test_refract_names_bad_indices(n1, n2, match):
+    d = np.array([[0.0, 0.6, -0.8]] * 3)
+    with pytest.raises(ValueError, match=match):
+        po.refract(d, [0.0, 0.0, 1.0], n1, n2)
+
+
+def test_refract_flags_total_reflection_per_ray_with_array_indices():
+    d = np.array([[0.0, 0.6, -0.8]] * 2)          # sin α = 0.6
+    t, valid = po.refract(d, [0.0, 0.0, 1.0], np.array([1.5, 2.0]), 1.0,
+                          on_total_reflection="flag")
+    assert valid.tolist() == [True, False]        # 1.5·0.6 < 1, 2·0.6 > 1
+    with pytest.raises(po.TotalInternalReflectionError, match=r"n1 = 2.0, n2 = 1.0"):
+        po.refract(d, [0.0, 0.0, 1.0], np.array([1.5, 2.0]), 1.0)

@@ -479,3 +479,37 @@ def test_frame_camera_checks_its_orientation_when_built(kwargs, error, match):
     args.update(kwargs)
     with pytest.raises(error, match=match):
         op.FrameCamera(**args)
+
+
+# -- FrameCamera owns its arrays (audit P1) --------------------------------------------------------
+
+def test_frame_camera_does_not_share_the_callers_arrays():
+    X0, R = np.array([0.0, 0.0, 100.0]), np.eye(3)
+    cam = op.FrameCamera(X0, R, 50.0, 101, 101, 0.01)
+    before = cam.pixel([[1.0, 0.0, 0.0]])
+    X0[2] = 200.0
+    R[:] = pl.rotation_opk(0.1, 0.0, 0.0)
+    np.testing.assert_array_equal(cam.X0, [0.0, 0.0, 100.0])
+    np.testing.assert_array_equal(cam.R, np.eye(3))
+    np.testing.assert_array_equal(cam.pixel([[1.0, 0.0, 0.0]]), before)
+
+
+def test_frame_camera_arrays_are_read_only():
+    cam = op.FrameCamera(np.array([0.0, 0.0, 100.0]), np.eye(3), 50.0, 101, 101, 0.01)
+    with pytest.raises(ValueError, match="read-only"):
+        cam.X0[2] = 5.0
+    with pytest.raises(ValueError, match="read-only"):
+        cam.R[0, 0] = 2.0
+    nadir = cam.nadir
+    nadir[0] = 9.0                                # a copy: writable, camera unchanged
+    assert cam.X0[0] == 0.0
+
+
+@pytest.mark.parametrize("args, match", [
+    (("abc", 30.0, 1000.0), "r must be numeric"),
+    ((50.0, "abc", 1000.0), "dh must be numeric"),
+    ((50.0, 30.0, 1 + 1j), "H must be real"),
+])
+def test_relief_displacement_names_non_numeric_input(args, match):
+    with pytest.raises(ValueError, match=match):
+        op.relief_displacement(*args)

@@ -165,3 +165,40 @@ def test_testing_helpers_detect_degrees_and_transpose():
 def test_bad_angles_and_matrices_are_named(call, text):
     with pytest.raises(ValueError, match=text):
         call()
+
+
+# -- angle helpers: range and bad input (audit A1, A2) ---------------------------------------------
+
+def test_wrap_angle_never_returns_plus_pi():
+    """(a + π) mod 2π rounds to 2π just below −π (and its odd multiples): that gave +π."""
+    below = np.nextafter(-np.pi, -4.0)
+    assert float(pl.wrap_angle(below)) == -np.pi
+    k = np.arange(-7, 8)
+    edges = (2 * k + 1) * np.pi
+    a = np.concatenate([np.nextafter(edges, -np.inf), edges, np.nextafter(edges, np.inf),
+                        np.linspace(-50, 50, 2001)])
+    w = pl.wrap_angle(a)
+    assert np.all((w >= -np.pi) & (w < np.pi))
+    np.testing.assert_allclose(np.cos(w), np.cos(a), atol=1e-12)
+    np.testing.assert_allclose(np.sin(w), np.sin(a), atol=1e-12)
+
+
+@pytest.mark.parametrize("name", ["deg2rad", "rad2deg", "gon2rad", "rad2gon", "deg2gon",
+                                  "gon2deg", "wrap_angle"])
+def test_angle_helpers_name_their_bad_input(name):
+    f = getattr(pl, name)
+    with pytest.raises(ValueError, match=r"a must (not be NaN|be finite), got NaN"):
+        f(np.nan)
+    with pytest.raises(ValueError, match=r"a must (not be NaN|be finite), got NaN"):
+        f([0.0, np.nan])
+    with pytest.raises(ValueError, match="a must be numeric"):
+        f("abc")
+    with pytest.raises(ValueError, match="a must be real"):
+        f(1 + 2j)
+    assert isinstance(f(1.0), float) and f(np.ones((2, 3))).shape == (2, 3)
+
+
+def test_unit_conversions_keep_infinity_but_wrap_angle_refuses_it():
+    assert pl.deg2rad(np.inf) == np.inf and pl.gon2deg(-np.inf) == -np.inf
+    with pytest.raises(ValueError, match="a must be finite, got inf"):
+        pl.wrap_angle(np.inf)

@@ -340,3 +340,45 @@ def test_bayer_mosaic_and_demosaic_are_linear(seed, alpha, pattern):
     parts = (s.demosaic_bilinear(s.bayer_mosaic(a, pattern), pattern)
              + alpha * s.demosaic_bilinear(s.bayer_mosaic(b, pattern), pattern))
     np.testing.assert_allclose(mix, parts, atol=1e-12)
+
+
+# -- flight_block and bayer_masks name their arguments (audit S1, S2) ------------------------------
+
+@pytest.mark.parametrize("kwargs, match", [
+    ({"height": -300.0}, r"height must be > 0, got -300.0"),
+    ({"height": np.array([300.0, 400.0])}, r"height must be a real number"),
+    ({"height": np.nan}, r"height must be finite"),
+    ({"n_along": 8000.7}, r"n_along must be an integer, got 8000.7"),
+    ({"n_across": 0}, r"n_across must be an integer ≥ 1, got 0"),
+    ({"n_along": "8000"}, r"n_along must be an integer"),
+    ({"c": np.array([50.0, 60.0])}, r"c must be a real number"),
+    ({"pixel_size": -0.005}, r"pixel_size must be > 0"),
+])
+def test_flight_block_names_the_bad_argument(kwargs, match):
+    args = dict(length=1000.0, width=500.0, height=300.0, c=50.0, pixel_size=0.005,
+                n_along=8000, n_across=6000)
+    args.update(kwargs)
+    with pytest.raises(ValueError, match=match):
+        s.flight_block(**args)
+
+
+def test_flight_block_accepts_integral_float_pixel_counts():
+    a = s.flight_block(1000.0, 500.0, 300.0, 50.0, 0.005, 8000, 6000)
+    assert s.flight_block(1000.0, 500.0, 300.0, 50.0, 0.005, 8000.0, np.int64(6000)) == a
+
+
+@pytest.mark.parametrize("shape, match", [
+    ((np.nan, 4), r"shape\[0\] must be an integer, got nan"),
+    ((4.7, 4), r"shape\[0\] must be an integer, got 4.7"),
+    ((4, 1), r"shape\[1\] must be an integer ≥ 2, got 1"),
+    ((4, "4"), r"shape\[1\] must be an integer, got '4'"),
+    ((4, 4, 3), r"shape must be \(H, W\)"),
+    (5, r"shape must be \(H, W\)"),
+])
+def test_bayer_masks_checks_the_entries_of_shape(shape, match):
+    with pytest.raises(ValueError, match=match):
+        s.bayer_masks(shape)
+
+
+def test_bayer_masks_accepts_integral_entries():
+    np.testing.assert_array_equal(s.bayer_masks((4.0, np.int64(6))), s.bayer_masks((4, 6)))

@@ -554,3 +554,55 @@ def test_covariance_two_images_by_monte_carlo():
     C_sym = np.array(C(*l0, B, c, s), float)
     scale = np.sqrt(np.outer(np.diag(C_sym), np.diag(C_sym)))
     np.testing.assert_allclose(C_mc / scale, C_sym / scale, atol=0.01)
+
+
+# -- essential / fundamental matrix checks, single-point intersection (audit T1, T2) ---------------
+
+@pytest.mark.parametrize("E, match", [
+    (np.zeros((3, 3)), "E is zero"),
+    (np.eye(3), "E has rank 3"),
+    (np.outer([1.0, 2.0, 0.5], [0.3, -1.0, 2.0]), "E has rank 1"),
+])
+def test_fundamental_matrix_refuses_what_is_not_an_essential_matrix(E, match):
+    with pytest.raises(DegenerateGeometryError, match=match):
+        fundamental_matrix(E, 50.0, 50.0)
+
+
+def test_fundamental_matrix_accepts_essential_matrices_of_any_scale():
+    rng = np.random.default_rng(120)
+    for scale in (1e-200, 1e-6, 1.0, 1e6, 1e200):
+        X01, X02 = rng.normal(size=3), rng.normal(size=3)
+        R1, R2 = _rot(*rng.uniform(-1, 1, 3)), _rot(*rng.uniform(-1, 1, 3))
+        E = essential_matrix(X01 * scale, R1, X02 * scale, R2)
+        F = fundamental_matrix(E, 35.0, 50.0, 0.1, -0.2, 0.05, 0.0)
+        assert np.isfinite(F).all()
+        epipolar_lines(F, [[1.0, 2.0], [-3.0, 0.5]])
+
+
+@pytest.mark.parametrize("F, match", [
+    (np.zeros((3, 3)), "F is zero"),
+    (np.eye(3), "F has rank 3"),
+    (np.outer([1.0, 2.0, 0.5], [0.3, -1.0, 2.0]), "F has rank 1"),
+])
+def test_epipolar_lines_blame_a_degenerate_F_not_the_point(F, match):
+    with pytest.raises(DegenerateGeometryError, match=match) as info:
+        epipolar_lines(F, [[1.0, 2.0]])
+    assert "epipole" not in str(info.value)
+
+
+def test_forward_intersection_of_one_point_keeps_its_rank():
+    """(K, 2) in: the point (3,) out, like project (2,) and monoplot (3,); fields of one point."""
+    eye = np.eye(3)
+    args = ([[0, 0, 0], [20.0, 0, 0]], [eye, eye])
+    one = forward_intersection([[1.0, 0.5], [-1.0, 0.3]], *args, c=100.0)
+    batch = forward_intersection([[[1.0, 0.5]], [[-1.0, 0.3]]], *args, c=100.0)
+    assert one.points.shape == (3,) and one.distances.shape == (2,)
+    assert one.residuals.shape == (2, 2)
+    assert isinstance(one.miss, float) and isinstance(one.angle, float)
+    assert isinstance(one.valid, bool) and one.valid
+    np.testing.assert_array_equal(one.points, batch.points[0])
+    np.testing.assert_array_equal(one.distances, batch.distances[0])
+    np.testing.assert_array_equal(one.residuals, batch.residuals[0])
+    assert one.miss == batch.miss[0] and one.angle == batch.angle[0]
+    flagged = forward_intersection([[-1.0, 0.0], [1.0, 0.0]], *args, c=100.0, return_valid=True)
+    assert flagged.valid is False and np.isnan(flagged.points).all()

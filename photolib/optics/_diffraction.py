@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from photolib._validate import as_int
 from photolib.optics._checks import _array, _finite, _out
 
 
@@ -35,7 +36,8 @@ def bessel_jn(n: int, x):
     Parameters
     ----------
     n : int
-        Order n, an integer ≥ 0 (0 and 1 for the Airy pattern).
+        Order n, an integer ≥ 0 (0 and 1 for the Airy pattern); an integral float such as
+        ``2.0`` is accepted, anything else (an array, inf, NaN, 1.5) raises ``ValueError``.
     x : float or array_like, any shape
         Argument, dimensionless, finite (for the Airy pattern ``v = π·r/(λ·k)``).
 
@@ -53,8 +55,7 @@ def bessel_jn(n: int, x):
     >>> np.round(bessel_jn(0, [0.0, 1.0]), 6).tolist()   # tables: J0(1) = 0.765198
     [1.0, 0.765198]
     """
-    if int(n) != n or n < 0:
-        raise ValueError(f"order n must be an integer >= 0, got {n!r}")
+    n = as_int(n, "order n", minimum=0)
     x = _finite(_array(x, "x"), "x")
     nodes = int(1.4 * float(np.max(np.abs(x), initial=0.0))) + 40 + int(n)
     tau = np.linspace(0.0, np.pi, nodes + 1)

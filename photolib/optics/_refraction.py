@@ -185,8 +185,10 @@ def refract(d, normal, n1, n2, *, on_total_reflection: str = "raise"):
         Incoming ray directions (normalised here).
     normal : array_like, shape (N, 3) or (3,)
         Surface normal, either side (it is turned to face the incoming ray).
-    n1, n2 : float
-        Refractive indices before and after the surface.
+    n1, n2 : float or array_like, shape (N,)
+        Refractive indices before and after the surface, > 0, finite: one for all rays, or
+        one per ray (as :func:`refraction_angle` broadcasts them; a single ray ``d`` (3,)
+        with N indices gives N rays).
     on_total_reflection : {"raise", "flag"}
         ``"raise"``: :class:`TotalInternalReflectionError`. ``"flag"``: return
         ``(directions, valid)``; totally reflected rows get the reflected direction and
@@ -195,7 +197,8 @@ def refract(d, normal, n1, n2, *, on_total_reflection: str = "raise"):
     Returns
     -------
     ndarray
-        Unit directions, shape of ``d`` (and the ``valid`` flags with ``"flag"``).
+        Unit directions, shape of ``d`` (N, 3) or (3,), or (N, 3) for one ray into N media
+        (and the ``valid`` flags with ``"flag"``).
 
     Notes
     -----
@@ -212,18 +215,28 @@ def refract(d, normal, n1, n2, *, on_total_reflection: str = "raise"):
     """
     if on_total_reflection not in ("raise", "flag"):
         raise ValueError(f"on_total_reflection must be 'raise' or 'flag', got {on_total_reflection!r}")
-    n1 = float(_finite(_array(n1, "refractive index n1", positive=True), "n1"))
-    n2 = float(_finite(_array(n2, "refractive index n2", positive=True), "n2"))
+    n1 = _finite(_array(n1, "refractive index n1", positive=True), "refractive index n1")
+    n2 = _finite(_array(n2, "refractive index n2", positive=True), "refractive index n2")
     d, nrm, cos_i, single = _directions(d, normal)
-    eta = n1 / n2
+    for arr, name in ((n1, "n1"), (n2, "n2")):     # a scalar, or one per ray like refraction_angle
+        if arr.ndim > 1 or (arr.ndim == 1 and len(d) != 1 and arr.shape[0] != len(d)):
+            raise ValueError(f"refractive index {name} has shape {arr.shape}; expected a scalar "
+                             f"or one index per ray, ({len(d)},)")
+    n = max(len(d), n1.size if n1.ndim else 1, n2.size if n2.ndim else 1)
+    if n != len(d):                                # one ray into several media
+        d, nrm, cos_i = np.broadcast_to(d, (n, 3)), np.broadcast_to(nrm, (n, 3)), cos_i.repeat(n)
+    single = single and n1.ndim == 0 and n2.ndim == 0
+    eta = np.broadcast_to(n1 / n2, (n,))
     sin2_t = eta**2 * (1.0 - cos_i**2)
     valid = sin2_t <= 1.0
     if on_total_reflection == "raise" and not np.all(valid):
+        i = int(np.argmax(sin2_t))
         raise TotalInternalReflectionError(
-            f"sin²β = {float(np.max(sin2_t)):.6g} > 1 (n1 = {n1}, n2 = {n2}): total internal "
+            f"sin²β = {float(sin2_t[i]):.6g} > 1 (n1 = {float(np.broadcast_to(n1, (n,))[i])}, "
+            f"n2 = {float(np.broadcast_to(n2, (n,))[i])}): total internal "
             "reflection; use on_total_reflection='flag' to get the reflected rays")
     cos_t = np.sqrt(np.clip(1.0 - sin2_t, 0.0, None))
-    t = eta * d + (eta * cos_i - cos_t)[:, None] * nrm
+    t = eta[:, None] * d + (eta * cos_i - cos_t)[:, None] * nrm
     r = d + 2.0 * cos_i[:, None] * nrm
     out = np.where(valid[:, None], t, r)
     out = out / np.linalg.norm(out, axis=1, keepdims=True)

@@ -71,12 +71,17 @@ def image_distance(a, f):
     >>> image_distance(np.inf, 50.0)
     50.0
     """
-    a = _array(a, "object distance a", positive=True)
+    return _image_distance(a, f, "object distance a")
+
+
+def _image_distance(a, f, name):
+    """:func:`image_distance` with the object distance called ``name`` in the messages."""
+    a = _array(a, name, positive=True)
     f = _finite(_array(f, "focal length f", positive=True), "focal length f")
     if np.any(a <= f):
         bad = np.broadcast_arrays(a, f)
         i = np.argmax((bad[0] <= bad[1]).ravel())
-        raise NoRealImageError(f"object distance a = {float(bad[0].ravel()[i])!r} is not beyond "
+        raise NoRealImageError(f"{name} = {float(bad[0].ravel()[i])!r} is not beyond "
                                f"the focal length f = {float(bad[1].ravel()[i])!r}: no real image")
     with np.errstate(invalid="ignore"):
         ap = np.where(np.isinf(a), f, a * f / np.where(np.isinf(a), 1.0, a - f))
@@ -265,8 +270,8 @@ def blur_diameter(a_x, a, f, k):
     0.03
     """
     k = _finite(_array(k, "f-number k", positive=True), "f-number k")
-    apx = np.asarray(image_distance(a_x, f))
-    ap = np.asarray(image_distance(a, f))
+    apx = np.asarray(_image_distance(a_x, f, "object distance a_x"))
+    ap = np.asarray(_image_distance(a, f, "focus distance a"))
     return _out(np.asarray(f, float) / k * np.abs(apx - ap) / apx)
 
 

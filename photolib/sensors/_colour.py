@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from photolib._validate import as_int
 from photolib._validate import as_array as _array
 
 
@@ -37,7 +38,8 @@ def bayer_masks(shape, pattern: str = "RGGB") -> np.ndarray:
     Parameters
     ----------
     shape : tuple of int
-        Image size (H, W) in pixels (rows, columns), H, W ≥ 2.
+        Image size (H, W) in pixels (rows, columns), integers ≥ 2; a fractional or
+        non-finite entry raises ``ValueError`` naming it (``shape[0]``, ``shape[1]``).
     pattern : str
         Bayer pattern, the colours of the top-left 2 × 2 block row by row: ``"RGGB"``,
         ``"BGGR"``, ``"GRBG"`` or ``"GBRG"`` (case-insensitive).
@@ -61,9 +63,13 @@ def bayer_masks(shape, pattern: str = "RGGB") -> np.ndarray:
     [[1, 0], [2, 1]]
     """
     cells = _pattern(pattern)
-    if len(shape) != 2 or min(shape) < 2:
+    try:
+        entries = tuple(shape)
+    except TypeError:
+        entries = ()
+    if len(entries) != 2:
         raise ValueError(f"shape must be (H, W) with H, W ≥ 2, got {shape!r}")
-    Hh, Ww = int(shape[0]), int(shape[1])
+    Hh, Ww = (as_int(v, f"shape[{i}]", minimum=2) for i, v in enumerate(entries))
     rows, cols = np.mgrid[0:Hh, 0:Ww]
     colour = np.array(cells)[rows % 2, cols % 2]
     return np.stack([colour == k for k in range(3)])

@@ -18,7 +18,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from photolib._validate import as_rotation, as_scalar, as_vector3
+from photolib._validate import as_int, as_rotation, as_scalar, as_vector3
 from photolib._validate import as_array as _array
 
 
@@ -158,11 +158,12 @@ def flight_block(length, width, height, c, pixel_size, n_along, n_across,
     length, width : float
         Block size along and across the flight direction, object unit (m).
     height : float
-        Flying height above ground H, object unit.
+        Flying height above ground H, object unit, > 0.
     c, pixel_size : float
-        Camera constant and pixel pitch, image unit (mm).
+        Camera constant and pixel pitch, image unit (mm), > 0.
     n_along, n_across : int
-        Sensor pixels along and across the flight direction.
+        Sensor pixels along and across the flight direction, integers ≥ 1 (an integral
+        float such as ``8000.0`` is accepted).
     overlap : float
         Forward overlap p (Längsüberdeckung), in [0.5, 1): below 50 % neighbouring stereo
         models leave gaps.
@@ -198,9 +199,11 @@ def flight_block(length, width, height, c, pixel_size, n_along, n_across,
     q = as_scalar(sidelap, "sidelap")
     if not 0.0 <= q < 1.0:
         raise ValueError(f"sidelap must be a fraction in [0, 1), got {sidelap!r}")
-    for value, name in ((n_along, "n_along"), (n_across, "n_across")):
-        as_scalar(value, name, positive=True)
-    gsd = ground_sampling_distance(pixel_size, c, height)
+    n_along = as_int(n_along, "n_along", minimum=1)
+    n_across = as_int(n_across, "n_across", minimum=1)
+    H = as_scalar(height, "height", positive=True)     # checked here: the GSD calls it distance
+    gsd = ground_sampling_distance(as_scalar(pixel_size, "pixel_size", positive=True),
+                                   as_scalar(c, "c", positive=True), H)
     along, across = n_along * gsd, n_across * gsd
     base = along * (1.0 - p)
     spacing = across * (1.0 - q)

@@ -93,6 +93,28 @@ def _interior_matrix(c, x0, y0, name):
                      [0.0, 1.0, -as_scalar(y0, f"y0{name}")], [0.0, 0.0, -c]])
 
 
+#: relative tolerances of the rank tests (σ3 ≤ tol3·σ1: σ3 counts as 0; σ2 ≤ tol1·σ1: rank 1).
+#: E is unit-free (an essential matrix has σ1 = σ2 = |b|, σ3 = 0); the singular values of F
+#: depend on the image unit (x' → x'/u scales its rows and columns by diag(u, u, 1)), so for
+#: F only a clear rank 3 and an unmistakable rank 1 are refused.
+_RANK_TOL_E = (1e-6, 1e-6)
+_RANK_TOL_F = (1e-3, 1e-12)
+
+
+def _check_rank_2(M, name, tols, what):
+    """``DegenerateGeometryError`` naming ``name`` unless M (3, 3) has rank 2 within ``tols``."""
+    tol3, tol1 = tols
+    sv = np.linalg.svd(M, compute_uv=False)
+    values = f"singular values {sv[0]:.6g}, {sv[1]:.6g}, {sv[2]:.6g}"
+    if not sv[0] > 0:
+        raise DegenerateGeometryError(f"{name} is zero: {what}")
+    if sv[2] > tol3 * sv[0]:
+        raise DegenerateGeometryError(f"{name} has rank 3 ({values}; σ3/σ1 = "
+                                      f"{sv[2] / sv[0]:.3g} > {tol3:g}): {what}")
+    if sv[1] <= tol1 * sv[0]:
+        raise DegenerateGeometryError(f"{name} has rank 1 ({values}): {what}")
+
+
 def fundamental_matrix(E, c1, c2, x01=0.0, y01=0.0, x02=0.0, y02=0.0) -> np.ndarray:
     r"""Fundamental matrix for image coordinates (mm) from the essential matrix.
 
@@ -110,6 +132,12 @@ def fundamental_matrix(E, c1, c2, x01=0.0, y01=0.0, x02=0.0, y02=0.0) -> np.ndar
     ndarray, shape (3, 3)
         F with ``h1ᵀ·F·h2 = 0`` for ``h_i = (x'_i, y'_i, 1)`` (Luhmann's order: image 1 left).
 
+    Raises
+    ------
+    DegenerateGeometryError
+        If E is zero or does not have rank 2 (σ3 > 10⁻⁶·σ1 or σ2 ≤ 10⁻⁶·σ1): it is then no
+        essential matrix ``R1ᵀ·[b]×·R2`` (which has σ1 = σ2 = |b| and σ3 = 0).
+
     Notes
     -----
     .. math:: x^*_i = K_i h_i,\quad K_i = \begin{pmatrix}1&0&-x'_{0i}\\0&1&-y'_{0i}\\0&0&-c_i
@@ -126,6 +154,7 @@ def fundamental_matrix(E, c1, c2, x01=0.0, y01=0.0, x02=0.0, y02=0.0) -> np.ndar
     if E.shape != (3, 3):
         raise ValueError(f"E must be a finite (3, 3) matrix, got shape {E.shape}")
     check_finite(E, "E")
+    _check_rank_2(E, "E", _RANK_TOL_E, "not an essential matrix R1ᵀ·[b]×·R2 (rank 2)")
     return _interior_matrix(c1, x01, y01, "1").T @ E @ _interior_matrix(c2, x02, y02, "2")
 
 
@@ -148,6 +177,13 @@ def epipolar_lines(F, xy, image: int = 2) -> np.ndarray:
         ``(a, b, d)`` with ``a·x' + b·y' + d = 0`` and ``a² + b² = 1``, so ``a·x' + b·y' + d``
         is the signed distance of a point from the line.
 
+    Raises
+    ------
+    DegenerateGeometryError
+        If F is zero, has rank 1 (σ2 ≤ 10⁻¹²·σ1) or clearly rank 3 (σ3 > 10⁻³·σ1; the
+        singular values of F depend on the image unit, so the tests are loose), or if a
+        point is the epipole.
+
     Notes
     -----
     .. math:: l_2 = F^T h_1, \qquad l_1 = F\,h_2
@@ -164,6 +200,8 @@ def epipolar_lines(F, xy, image: int = 2) -> np.ndarray:
     if F.shape != (3, 3):
         raise ValueError(f"F must be a finite (3, 3) matrix, got shape {F.shape}")
     check_finite(F, "F")
+    _check_rank_2(F, "F", _RANK_TOL_F, "not a fundamental matrix (rank 2), so there are no "
+                  "epipolar lines")
     pts, single = as_points(xy, 2, "xy")
     h = np.column_stack([pts, np.ones(len(pts))])
     lines = h @ F if image == 2 else h @ F.T

@@ -23,7 +23,12 @@ from photolib.transforms._base import DegenerateGeometryError
 
 @dataclass(frozen=True)
 class ForwardIntersection:
-    """Result of :func:`forward_intersection` for N points seen in K images."""
+    """Result of :func:`forward_intersection` for N points seen in K images.
+
+    For a single point (``xy`` of shape (K, 2)) the leading N axis is dropped, as for the
+    other point functions: ``points`` (3,), ``distances`` (K,), ``residuals`` (K, 2), and
+    ``miss``, ``angle`` (float) and ``valid`` (bool) are scalars.
+    """
 
     points: np.ndarray  #: (N, 3) object points (NaN where not valid)
     distances: np.ndarray  #: (N, K) perpendicular distance of each point from each ray
@@ -51,7 +56,8 @@ def forward_intersection(xy, X0, R, c, x0=0.0, y0=0.0, *, min_angle: float = 1e-
     Parameters
     ----------
     xy : array_like, shape (K, N, 2) or (K, 2)
-        Image coordinates of N points in each of the K images (image unit).
+        Image coordinates of N points in each of the K images (image unit); (K, 2) is one
+        point, and its result has no N axis.
     X0 : array_like, shape (K, 3)
         Projection centres (object unit).
     R : array_like, shape (K, 3, 3)
@@ -67,6 +73,7 @@ def forward_intersection(xy, X0, R, c, x0=0.0, y0=0.0, *, min_angle: float = 1e-
     Returns
     -------
     ForwardIntersection
+        Fields of shape (N, …), or without the N axis for a single point (K, 2).
 
     Notes
     -----
@@ -83,14 +90,15 @@ def forward_intersection(xy, X0, R, c, x0=0.0, y0=0.0, *, min_angle: float = 1e-
     >>> I = np.eye(3)
     >>> res = forward_intersection([[1.0, 0.5], [-1.0, 0.5]], [[0, 0, 0], [20.0, 0, 0]],
     ...                            [I, I], c=100.0)
-    >>> np.round(res.points, 9).tolist(), bool(res.miss[0] < 1e-9)
-    ([[10.0, 5.0, -1000.0]], True)
+    >>> np.round(res.points, 9).tolist(), res.miss < 1e-9, res.valid
+    ([10.0, 5.0, -1000.0], True, True)
     """
     min_angle = as_scalar(min_angle, "min_angle")
     if min_angle < 0:
         raise ValueError(f"min_angle must be ≥ 0 (radians), got {min_angle!r}")
     obs = as_float_array(xy, "xy")
-    if obs.ndim == 2 and obs.shape[-1] == 2:
+    single = obs.ndim == 2 and obs.shape[-1] == 2      # (K, 2): one point, results of its rank
+    if single:
         obs = obs[:, None, :]
     if obs.ndim != 3 or obs.shape[-1] != 2:
         raise ValueError(f"xy has shape {np.shape(xy)}; expected (K, N, 2) or (K, 2)")
@@ -150,5 +158,9 @@ def forward_intersection(xy, X0, R, c, x0=0.0, y0=0.0, *, min_angle: float = 1e-
             residuals[valid, k] = project(points[valid], centres[k], rots[k], cs[k],
                                           x0s[k], y0s[k]) - obs[k][valid]
     miss = 2.0 * np.sqrt(np.mean(dist**2, axis=1))
+    if single:
+        return ForwardIntersection(points=points[0], distances=dist[0], miss=float(miss[0]),
+                                   residuals=residuals[0], angle=float(angle[0]),
+                                   valid=bool(valid[0]))
     return ForwardIntersection(points=points, distances=dist, miss=miss, residuals=residuals,
                                angle=angle, valid=valid)
