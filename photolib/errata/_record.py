@@ -60,7 +60,8 @@ class VersionSpec:
     ``expr`` is the transcription (SymPy, or a callable returning it); ``condition`` a
     substitution under which it equals the derivation, described by ``condition_text``;
     ``check`` replaces the formula comparison for examples and text; ``claim`` is what the
-    source says of the version: ``right``/``wrong`` (the errata list's "richtig"/"alte
+    source says of the version (``reading=True``: the source prints a sentence and ``expr`` is
+    the catalogue's reading of it, not a transcription): ``right``/``wrong`` (the errata list's "richtig"/"alte
     Fassung"; the other sources claim everything they print right), or
     ``right-under-condition`` where the source itself adds the condition. It is required:
     a spec without a claim raises ``ValueError``, so :meth:`Record.differs_from_source`
@@ -79,6 +80,7 @@ class VersionSpec:
     check: Callable[[], Evidence] | None = None
     claim: str = ""
     target: Any = None              # overrides the record's derivation for this version
+    reading: bool = False           # expr is the catalogue's reading of a sentence, not a print
 
     def __post_init__(self):
         if not any(self.verdict == p or (p.endswith(": ") and self.verdict.startswith(p))

@@ -37,7 +37,11 @@ def describe(rec) -> str:
     """Multi-line text of one record: versions, derivation, steps and evidence."""
     lines = [f"{rec.id}: {rec.item}", f"  source: {rec.source}", f"  kind: {rec.kind}"]
     for name, expr in rec.versions.items():
-        lines.append(f"  printed ({name}): {expr}")
+        if rec.specs[name].reading:     # a sentence in the source: say it is our reading
+            lines.append(f"  reading ({name}, the catalogue's reading of a sentence; no "
+                         f"formula printed): {expr}")
+        else:
+            lines.append(f"  printed ({name}): {expr}")
     if rec.derivation is not None:
         lines.append(f"  derivation: {rec.derived()}")
     for i, step in enumerate(rec.steps, 1):

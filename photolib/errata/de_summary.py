@@ -117,6 +117,23 @@ def records():
                                     y * sp.cos(th) - x * sp.sin(th)]),
             check=lambda: _rot2d(), claim="right")},
         derivation=lambda: rotation_2d(th) * sp.Matrix([x, y])))
+    out.append(formula(
+        "de-summary:rotation-2d-comment", SRC + ", 'Rotationsmatrizen in der Ebene', lines 357 "
+        "and 359 (inside an HTML comment)", "2-D rotation (x', y') = M·(x, y) and its inverse "
+        "(x, y) = M⁻¹·(x', y'), each matrix printed as one column cos θ, sin θ | −sin θ, cos θ",
+        {"printed": VersionSpec(ROT2D_COMMENT, expr=lambda: _rot2d_comment("rows"),
+                                check=_rot2d_comment_evidence, claim="right")},
+        derivation=_rot2d_passive_pair,
+        steps=("coordinates of a fixed point in axes turned by θ: (x', y') = R(θ)ᵀ·(x, y), "
+               "back: (x, y) = R(θ)·(x', y') (R(θ) the course's plane rotation)",
+               "the comment stacks four entries in one column with a '|' in the middle: "
+               "read as two rows or as two columns",
+               "both readings compared with the derivation, and the two matrices multiplied"),
+        note="The layout is ambiguous: the source writes each 2×2 matrix as a single column "
+             "'cos θ, sin θ | −sin θ, cos θ'. Read row by row (the expression shown), the "
+             "first matrix is the one of the summary's own lines 345 and 353; read column by "
+             "column it is R(θ), the active rotation, and contradicts them. Under either "
+             "reading the second matrix is the inverse of the first."))
     Rg = col.rotation_symbols()
 
     def _col(sign_x0=True):
@@ -153,15 +170,19 @@ def records():
     out.append(formula(
         "de-summary:normal-case-simplified", SRC + ", 'Photogrammetrischer Normalfall'",
         "simplified collinearity ξ = ξ0 − c·r11(X − X0)/(r33·Z)",
-        {"printed": VersionSpec("right-under-condition: ω = φ = κ = 0 (R = I) and "
-                                "Y0 = Z0 = 0", expr=lambda: col.x0 - col.c * col.r[0]
+        {"printed": VersionSpec(f"right-under-condition: {NORMAL_CASE_XI}",
+                                expr=lambda: col.x0 - col.c * col.r[0]
                                 * (col.X - col.X0) / (col.r[8] * col.Z),
                                 condition=lambda: {**{s: (1 if s in (col.r[0], col.r[4],
                                                                       col.r[8]) else 0)
-                                                      for s in col.r}, col.Y0: 0, col.Z0: 0},
-                                condition_text="ω = φ = κ = 0 (R = I) and Y0 = Z0 = 0",
-                                claim="right")},
-        derivation=lambda: col.image_coordinates(Rg)[0]))
+                                                      for s in col.r}, col.Z0: 0},
+                                condition_text=NORMAL_CASE_XI, claim="right")},
+        derivation=lambda: col.image_coordinates(Rg)[0],
+        steps=("ξ = ξ0 − c·(r11ΔX + r21ΔY + r31ΔZ)/(r13ΔX + r23ΔY + r33ΔZ) (collinearity)",
+               "R = I: ξ = ξ0 − c·(X − X0)/(Z − Z0); Y0 does not occur",
+               "Z0 = 0: ξ = ξ0 − c·r11(X − X0)/(r33·Z), the printed line"),
+        note="Unlike the η line (de-summary:normal-case-simplified-eta), the ξ line needs no "
+             "Y0 = 0: with R = I the ΔY term drops out of both numerator and denominator."))
     out.append(formula(
         "de-summary:normal-case-simplified-eta", SRC + ", 'Photogrammetrischer Normalfall', "
         "line 565", "simplified collinearity η = η0 − c·r22·Y/(r33·Z)",
@@ -234,6 +255,52 @@ def _practice() -> Evidence:
     return Evidence("wrong", f"difference {M.tolist()} is not a similarity")
 
 
+ROT2D_COMMENT = ("right-under-condition: the stacked entries read row by row "
+                 "(cos θ, sin θ / −sin θ, cos θ), as in the summary's own x' = x cos θ + "
+                 "y sin θ, y' = y cos θ − x sin θ (lines 345, 353): the passive rotation and "
+                 "its inverse; read column by column the first matrix is R(θ) (active) and "
+                 "contradicts those lines. The second matrix is the inverse of the first "
+                 "under either reading")
+xp, yp = sp.symbols("x_p y_p", real=True)   # x', y' of the comment
+
+
+def _rot2d_comment_matrices(reading: str):
+    """The two matrices of lines 357/359, entries (a, b | c, d) read as rows or as columns."""
+    c, s_ = sp.cos(th), sp.sin(th)
+    first, second = (c, s_, -s_, c), (c, -s_, s_, c)      # top to bottom, as printed
+    if reading == "rows":
+        return tuple(sp.Matrix([[e[0], e[1]], [e[2], e[3]]]) for e in (first, second))
+    if reading == "columns":
+        return tuple(sp.Matrix([[e[0], e[2]], [e[1], e[3]]]) for e in (first, second))
+    raise ValueError(f"reading must be 'rows' or 'columns', got {reading!r}")
+
+
+def _rot2d_comment(reading: str) -> sp.Matrix:
+    M, Minv = _rot2d_comment_matrices(reading)
+    return sp.Matrix.vstack(M * sp.Matrix([x, y]), Minv * sp.Matrix([xp, yp]))
+
+
+def _rot2d_passive_pair() -> sp.Matrix:
+    R = rotation_2d(th)
+    return sp.Matrix.vstack(R.T * sp.Matrix([x, y]), R * sp.Matrix([xp, yp]))
+
+
+def _rot2d_comment_evidence() -> Evidence:
+    from photolib.symcheck import equivalent
+    target = _rot2d_passive_pair()
+    rows = equivalent(_rot2d_comment("rows"), target)
+    cols = equivalent(_rot2d_comment("columns"), target)
+    inverse = all(sp.simplify(N * M - sp.eye(2)) == sp.zeros(2, 2)
+                  for M, N in map(_rot2d_comment_matrices, ("rows", "columns")))
+    if rows.kind == "equal" and cols.kind == "not-equal" and inverse:
+        return Evidence(ROT2D_COMMENT, "row-wise: equal to R(θ)ᵀ and R(θ) ("
+                        f"{rows.method}); column-wise: differs ({cols.method}); "
+                        "M⁻¹·M = I for both readings (simplify); the counterexample is of the "
+                        "column-wise reading",
+                        cols.counterexample, cols.values)
+    return Evidence("wrong", f"rows {rows.kind}, columns {cols.kind}, inverse {inverse}")
+
+
 def _rot2d() -> Evidence:
     from photolib.symcheck import equivalent
     printed = sp.Matrix([x * sp.cos(th) + y * sp.sin(th), y * sp.cos(th) - x * sp.sin(th)])
@@ -250,6 +317,7 @@ def _rot2d() -> Evidence:
 # -- image vector, exterior orientation, attitude angles, metric camera, stereo fusion ----------
 
 NORMAL_CASE = "ω = φ = κ = 0 (R = I) and Y0 = Z0 = 0"
+NORMAL_CASE_XI = "ω = φ = κ = 0 (R = I) and Z0 = 0 (Y0 does not enter the ξ line)"
 
 
 def _normal_case_condition():

@@ -86,6 +86,10 @@ def _quantisation() -> Evidence:
                     "Δ = full scale/(2^b − 1)")
 
 
+READING_NOTE = ("The source prints no formula here: the version 'printed' is the catalogue's "
+                "reading of the sentence (labelled 'reading' by --id), not a transcription. ")
+
+
 def records():
     out = []
     out.append(formula(
@@ -96,13 +100,13 @@ def records():
         {"printed": VersionSpec(f"right-under-condition: {PIXEL_COND}",
                                 expr=lambda: (s.p * s.H / s.c) ** 2,
                                 condition={s.omega: 0, s.phi: 0, s.g: 0},
-                                condition_text=PIXEL_COND, claim="right")},
+                                condition_text=PIXEL_COND, claim="right", reading=True)},
         derivation=s.pixel_ground_area, domain=PIXEL_DOMAIN,
         steps=("ray of (x', y'): D = R·(x', y', −c) from the centre at height H (collinearity)",
                "meets the ground Z = g·X at (X, Y) = λ·(D_x, D_y), λ = −H/(D_z − g·D_x)",
                "pixel area = p²·det ∂(X, Y)/∂(x', y')·√(1 + g²)",
                "ω = φ = g = 0: (X, Y) = (H/c)·R_κ(x', y'), area (p·H/c)², GSD = p·H/c"),
-        note="The summary defines the pixel resolution as an area; the usual figure is its "
+        note=READING_NOTE + "The summary defines the pixel resolution as an area; the usual figure is its "
              "side, the ground sampling distance GSD = p·H/c = p·m_b."))
     out.append(formula(
         "de-summary:gain", SRC + ", 'CCD-Sensoren', line 263",
@@ -110,12 +114,12 @@ def records():
         "grey level = K)",
         {"printed": VersionSpec(f"right-under-condition: {GAIN_COND}", expr=lambda: s.K,
                                 condition={s.eta: 1}, condition_text=GAIN_COND,
-                                claim="right")},
+                                claim="right", reading=True)},
         derivation=s.photons_per_grey_level, domain={s.eta: (0.1, 0.9)},
         steps=("N photons give η·N electrons; the converter codes DN = η·N/K, K in e⁻/DN",
                "photons per grey level = 1/(dDN/dN) = K/η",
                "η = 1: K; a sensor with η = 0.5 needs 2K photons per grey level"),
-        note="The system gain (EMVA 1288) is defined in electrons (or DN per electron); "
+        note=READING_NOTE + "The system gain (EMVA 1288) is defined in electrons (or DN per electron); "
              "rounding adds the quantisation noise K²/12 e⁻²."))
     out.append(formula(
         "de-summary:full-well", SRC + ", 'CCD-Sensoren', line 262",
@@ -123,13 +127,13 @@ def records():
         "bestimmt' (read as FW = K·(2^b − 1))",
         {"printed": VersionSpec(f"right-under-condition: {FW_COND}", expr=lambda: s.FW,
                                 condition=lambda: {s.K: s.FW / (2**s.bits - 1)},
-                                condition_text=FW_COND, claim="right")},
+                                condition_text=FW_COND, claim="right", reading=True)},
         derivation=s.charge_at_max_dn, domain={s.bits: (8.0, 14.0), s.K: (0.5, 20.0),
                                                s.FW: (1e3, 1e5)},
         steps=("grey value DN stands for the charge K·DN (steps of K electrons)",
                "the largest grey value 2^b − 1 stands for Σ K = K·(2^b − 1)",
                "equal to the full well only when K is chosen as FW/(2^b − 1)"),
-        note="The full well is a property of the pixel (its charge capacity); gain and bit "
+        note=READING_NOTE + "The full well is a property of the pixel (its charge capacity); gain and bit "
              "depth are matched to it, not the other way round."))
     out.append(Record(
         id="de-summary:cmos-dynamic-range", source=SRC + ", 'CMOS', line 278",
@@ -153,12 +157,12 @@ def records():
                                 expr=lambda: (o * s.t) / (o_ref * s.t_ref),
                                 condition=lambda: {o: sp.pi * s.d**2 / 4,
                                                    o_ref: sp.pi * s.d_ref**2 / 4},
-                                condition_text=EXPOSURE_COND, claim="right")},
+                                condition_text=EXPOSURE_COND, claim="right", reading=True)},
         derivation=s.exposure_ratio,
         steps=("irradiance through a cone of half angle u': ∫ L cos θ dΩ = π L sin² u'",
                "sine condition, object at infinity: sin u' = d/(2f)",
                "Q = L·(π d²/4)·A_px·t/f²: pupil area × time; d = f/k gives Q ∝ t/k²"),
-        note="Read with the diameter d the printed proportionality is wrong: doubling d "
+        note=READING_NOTE + "Read with the diameter d the printed proportionality is wrong: doubling d "
              "quadruples the light."))
     out.append(Record(
         id="de-summary:colour-resolution", source=SRC + ", 'Digitale Farbbilder', lines "

@@ -79,6 +79,33 @@ def _t_text(falls: bool) -> Evidence:
                     f"at k={k}, ν {nu1}→{nu2}; " + nums)
 
 
+OLD_286 = ("right-under-condition: A² = 1 (the conic scaled so that the coefficient of x² + y² "
+           "is ±1; A = 1 and A = −1 both give the derived radius)")
+
+
+def _old286() -> Evidence:
+    """2.86 old: solve old² = derived² for A, then compare at each root and in general."""
+    from photolib.symcheck import equivalent
+    A, D, E, F = conic.A, conic.D, conic.E, conic.F
+    old = sp.sqrt(D**2 + E**2 - A * F)
+    derived = conic.circle_radius()
+    radicand = D**2 + E**2 - A * F
+    diff = sp.factor(sp.together(old**2 - derived**2))
+    # roots of old² − derived² other than the zero radius (radicand 0, no real circle)
+    roots = [rt for rt in sp.solve(diff, A) if sp.simplify(radicand.subs(A, rt)) != 0]
+    dom = {A: (0.5, 2.0), D: (1.5, 3.0), E: (1.5, 3.0), F: (-2.0, 1.0)}
+    general = equivalent(old, derived, symbols_domain=dom, time_budget=3.0, samples=8)
+    at_root = {rt: equivalent(old.subs(A, rt), derived.subs(A, rt), time_budget=3.0).kind
+               for rt in roots}
+    if (sorted(roots) == [-1, 1] and general.kind == "not-equal"
+            and set(at_root.values()) == {"equal"}):
+        return Evidence(OLD_286, f"old² − derived² = {diff}: zero for a real circle iff "
+                        "A² = 1 (SymPy solve: A = ±1); equal at A = 1 and A = −1, differs in "
+                        "general",
+                        general.counterexample, general.values)
+    return Evidence("wrong", f"roots {roots}, general {general.kind}, at the roots {at_root}")
+
+
 def records():
     r = []
     r.append(formula(
@@ -112,11 +139,9 @@ def records():
     r.append(Record_cross())
     r.append(formula(
         "luhmann:2.86", SRC + ", p. 56, formula 2.86", "circle radius from the general conic",
-        {"old": VersionSpec("right-under-condition: A = 1 (conic normalised so that the "
-                            "coefficient of x² + y² is 1)",
+        {"old": VersionSpec(OLD_286,
                             expr=lambda: sp.sqrt(conic.D**2 + conic.E**2 - conic.A * conic.F),
-                            condition={conic.A: 1}, condition_text="A = 1 (conic normalised "
-                            "so that the coefficient of x² + y² is 1)", claim="wrong"),
+                            check=_old286, claim="wrong"),
          "corrected": VersionSpec("right", expr=lambda: sp.sqrt(
              (conic.D**2 + conic.E**2 - conic.A * conic.F) / conic.A**2), claim="right")},
         derivation=conic.circle_radius,
@@ -125,7 +150,9 @@ def records():
         steps=("circle: A(x² + y²) + 2Dx + 2Ey + F = 0 (A ≠ 0)",
                "centre where the gradient vanishes: (−D/A, −E/A)",
                "g(x) = A|x − centre|² + g(centre), so r² = −g(centre)/A = (D² + E² − AF)/A²"),
-        note="Sampled with D² + E² > AF (a real circle).",
+        note="Sampled with D² + E² > AF (a real circle). The old print drops the 1/A²: it "
+             "gives the radius exactly when A² = 1, i.e. for A = 1 and for A = −1 (a circle "
+             "equation multiplied by −1), and for no other A.",
     ))
     r.append(formula(
         "luhmann:2.88", SRC + ", p. 57, formula 2.88 (note)", "circle observation equation "

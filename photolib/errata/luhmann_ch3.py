@@ -16,7 +16,8 @@ SRC = "002_b1d9e6507973e20d.txt (Luhmann errata list, 11.7.2017)"
 
 #: printed inputs of example 3.7 (m, mm, µm as printed)
 EX37 = {"m": 125, "h_m": 5.0, "b_m": 1.2, "s_px_um": 4.0}
-#: table 3.3 (corrected): rows in mm, columns Rollei 6008, DCS 645M, DCS 460, JAI, Basler
+#: table 3.3 (corrected): rows in mm; the header is empty in the source, the columns are
+#: assigned Rollei 6008, DCS 645M, DCS 460, JAI, Basler by matching the text's values
 TABLE33 = {"total": (0.0767, -0.2641, 0.2229, -0.0045, -0.5674),
            "iterative": (-0.0008, -0.0134, -0.0438, -0.0003, 0.2385)}
 #: values quoted in the text of p. 164 (µm, magnitudes as printed, signs as printed)
@@ -36,6 +37,12 @@ def example_37(factor_name: str):
     return {"s_x_um": s_x_um, "s_XY_mm": s_xy_mm, "s_Z_mm": s_z_mm, "factor": factor}
 
 
+EX37_NEW = ("not-checkable: empirical claim about stereoscopic parallax measurement "
+            "(s_px' = s_x'/√2 when both images are viewed at once); it contradicts "
+            "σ(px') = √2·σ(x') for independent readings, and the example's results are not "
+            "printed in the errata list")
+
+
 def _ev37(old: bool) -> Evidence:
     res = example_37("sqrt2" if old else "inv")
     nums = (f"s_x' = {res['s_x_um']:.3f} µm, σ_XY = {res['s_XY_mm']:.3f} mm, "
@@ -45,11 +52,13 @@ def _ev37(old: bool) -> Evidence:
                         "equal σ (law of error propagation of px' = x'1 − x'2)",
                         "σ(px') = √2·σ(x') by propagation; " + nums,
                         table=[("s_Z_mm", None, res["s_Z_mm"], None, True)])
-    return Evidence("right-under-condition: empirical assumption that simultaneous "
-                    "stereoscopic viewing measures parallax better than one coordinate; it "
-                    "does not follow from error propagation",
-                    "s_px' = s_x'/√2 contradicts independent measurement (√2); " + nums,
-                    table=[("s_Z_mm", None, res["s_Z_mm"], None, True)])
+    indep = example_37("sqrt2")
+    return Evidence(EX37_NEW, "s_px' = s_x'/√2 is an assumption about how a stereoscopic "
+                    "observer measures, not a consequence of px' = x'1 − x'2; for independent "
+                    f"readings σ(px') = √2·σ(x') (σ_XY = {indep['s_XY_mm']:.3f} mm). With the "
+                    "assumption: " + nums,
+                    table=[("s_Z_mm", None, res["s_Z_mm"], None, True),
+                           ("s_XY_mm", None, res["s_XY_mm"], None, True)])
 
 
 def _ev33_text() -> Evidence:
@@ -79,10 +88,7 @@ def records():
                                   check=lambda: _ev37(True), claim="wrong",
                                   expr=lambda: stereo.s_x * sp.sqrt(2)),
                "corrected": VersionSpec(
-                   "right-under-condition: empirical assumption that simultaneous "
-                   "stereoscopic viewing measures parallax better than one coordinate; it "
-                   "does not follow from error propagation",
-                   check=lambda: _ev37(False), claim="right",
+                   EX37_NEW, check=lambda: _ev37(False), claim="right",
                    expr=lambda: stereo.s_x / sp.sqrt(2))},
         derivation=stereo.parallax_sigma_independent,
         steps=("px' = x'1 − x'2; independent x'1, x'2 with σ s_x': σ(px') = √2·s_x' (propagation)",
@@ -90,8 +96,13 @@ def records():
                "Z = −c·b/px': |dZ/dpx'| = Z²/(c·b) = (h/b)·m, so σ_Z = (h/b)·m·s_px' = 2.083 mm",
                "old (s_px' = √2·s_x'): s_x' = 2.83 µm, σ_XY = 0.354 mm; corrected "
                "(s_px' = s_x'/√2): s_x' = 5.66 µm, σ_XY = 0.707 mm"),
-        note="σ_Z (2.083 mm) does not depend on the reading; σ_XY does (factor 2). "
-             "Which one is 'right' depends on how the parallax is measured, not on algebra."))
+        note="Recomputed from the printed inputs: σ_Z = (h/b)·m·s_px' = 2.083 mm in both "
+             "versions; σ_XY = m·s_x' = 0.354 mm with the old s_px' = √2·s_x' (s_x' = 2.83 "
+             "µm) and 0.707 mm with the corrected s_px' = s_x'/√2 (s_x' = 5.66 µm). The "
+             "results of the example are not in the errata list, so neither number can be "
+             "compared with a print. The old relation follows from error propagation for "
+             "independent readings; the corrected one is the list's remark that simultaneous "
+             "stereoscopic viewing measures parallax better, an empirical claim."))
     r.append(Record(
         id="luhmann:table-3.3", source=SRC + ", p. 163/164, table 3.3 and text",
         item="iterative distortion correction: text versus table", kind="example",
@@ -102,8 +113,13 @@ def records():
         steps=("table row 'Iterative Korrektur' in mm → µm",
                "compare with the values quoted in the text (DCS 645M −13.4, DCS 460 −43.8, "
                "Rollei 0.8, JAI 0.3, Basler 238 µm)"),
-        note="The table values themselves need the cameras' distortion parameters and image "
-             "positions, which are not printed: not recomputable. The text's '3-4 iterations' "
+        note="The table header (the camera names) is empty in the transcription: the "
+             "column-to-camera assignment (Rollei 6008, DCS 645M, DCS 460, JAI, Basler) is "
+             "inferred by matching the values the text quotes, the only assignment they fit "
+             "(Basler: 238.5 µm against the quoted 238, at the 0.5 µm rounding bound). The "
+             "table values themselves, the 'Gesamteffekt' row included, need the cameras' "
+             "distortion parameters and image positions, which are not printed: not "
+             "recomputable. The text's '3-4 iterations' "
              "refers to Abb. 3.67a (a figure). Only the consistency of text and table is checked."))
     r.append(figure("luhmann:fig-3.45", SRC + ", p. 142, Abb. 3.45", "principal point versus "
                     "piercing point of the optical axis", "figure only", claim="right"))

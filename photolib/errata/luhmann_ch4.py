@@ -11,7 +11,7 @@ import sympy as sp
 
 from photolib.derive import collinearity as col
 from photolib.derive import dlt, stereo
-from photolib.derive.rotation import kappa
+from photolib.derive.rotation import kappa, omega, phi, rotation_opk
 from photolib.errata._record import Evidence, Record, VersionSpec, figure, formula, numbers_evidence
 
 SRC = "002_b1d9e6507973e20d.txt (Luhmann errata list, 11.7.2017)"
@@ -51,7 +51,15 @@ def _dy_dphi(old: bool):
     return zp / N * (ky / N * inner + N * sp.sin(kappa))
 
 
+EX48_OLD = ("not-checkable: the image coordinates of example 4.8 are not printed in the errata "
+            "list; c = 64 mm versus 60.2 mm is a camera datum")
+EX48_NEW = ("not-checkable: the image coordinates of example 4.8 are not printed in the errata "
+            "list, so Z cannot be recomputed independently; the corrected Z only equal the old "
+            "ones scaled by c_new/c_old (−3.6496 m, −55.017 m)")
+
+
 def _ev48(which: str) -> Evidence:
+    """Example 4.8: neither print can be recomputed; the corrected Z are the old Z·c_new/c_old."""
     b = EX48["b"]
     c_old, z1_old, z2_old = EX48["old"]
     # course: Z = −c·B/px' with c > 0; Luhmann prints c < 0, so c_course = −c_printed
@@ -59,19 +67,22 @@ def _ev48(which: str) -> Evidence:
     pxs = [sp.solve(sp.Eq(Zf.subs({stereo.c: -c_old, stereo.B: b}), z), stereo.px)[0]
            for z in (z1_old, z2_old)]
     if which == "old":
-        return Evidence("not-checkable: the image coordinates of example 4.8 are not printed "
-                        "in the errata list; c = 64 mm versus 60.2 mm is a camera datum",
-                        f"implied parallaxes px' = {float(pxs[0]):.4f}, {float(pxs[1]):.4f} mm")
+        return Evidence(EX48_OLD, f"implied parallaxes px' = {float(pxs[0]):.4f}, "
+                        f"{float(pxs[1]):.4f} mm")
     c_new, z1_new, z2_new = EX48["corrected"]
     rows = []
     for name, px, z_old, z_new in (("Z1", pxs[0], z1_old, z1_new), ("Z2", pxs[1], z2_old, z2_new)):
         z = float(Zf.subs({stereo.c: -c_new, stereo.B: b, stereo.px: px}))
         tol = 0.005 + abs(z_new) * 0.005 / abs(z_old)
         rows.append((name + " (m)", z_new, z, tol))
-    return numbers_evidence(rows, "corrected Z recomputed from the parallaxes implied by the "
-                            "old print", condition="Luhmann's negative c (z' = c): "
-                            "Z = c·b/px' = −c_course·b/px'; image coordinates not printed, so "
-                            "only old and corrected results are checked against each other")
+    ev = numbers_evidence(rows)
+    if ev.verdict != "right":      # the corrected Z would not even follow from the old ones
+        return Evidence("not-checkable: the corrected Z are not the old Z scaled by "
+                        "c_new/c_old", ev.detail, table=ev.table)
+    return Evidence(EX48_NEW, "the parallaxes px' = c·b/Z of the old print, used again with "
+                    "c = −60.2 mm, give the corrected Z: a consistency of the two prints, not "
+                    "a check of either (the parallaxes themselves come from the old print)",
+                    table=ev.table)
 
 
 def _ev41(which: str) -> Evidence:
@@ -85,19 +96,58 @@ def _ev41(which: str) -> Evidence:
                     f"u = n − r per column: {us[which]}", table=rows)
 
 
-OLD_476 = ("right-under-condition: κ_i = κ (the left side R_i(ω, φ, κ) names κ, so A_i must "
-           "take the same κ); the product is a rotation with either argument")
+V476 = ("not-checkable: notation — the errata list defines neither A_i nor ξ, η, ζ; if A_i "
+        "takes the κ of R_i(ω, φ, κ), the corrected print equals the composition R(ξ, η, ζ)·A_i "
+        "and the old one differs wherever κ_i ≠ κ; if A_i has an image-specific κ_i, the "
+        "reverse. Both prints are rotations")
+xi_b, eta_b, zeta_b = sp.symbols("xi eta zeta", real=True)
+kappa_i = sp.Symbol("kappa_i", real=True)
+
+
+def _print476(which: str) -> sp.Matrix:
+    """The printed right side of 4.76: R(ξ, η, ζ)·A_i(ω, φ, κ_i) (old) or A_i(ω, φ, κ)."""
+    k = kappa_i if which == "old" else kappa
+    return rotation_opk(xi_b, eta_b, zeta_b) * rotation_opk(omega, phi, k)
+
+
+def bundle_rotation_476(reading: str) -> sp.Matrix:
+    """R_i of image i of a bundle from first principles, under one reading of A_i's κ.
+
+    A direction x in image i turns into the bundle frame by A_i and from there into the object
+    frame by R(ξ, η, ζ): X = R(ξ, η, ζ)·(A_i·x), so R_i = R(ξ, η, ζ)·A_i by associativity.
+    ``reading="kappa"``: A_i's third angle is the κ of the left side R_i(ω, φ, κ);
+    ``reading="kappa_i"``: it is an image-specific κ_i. R and A_i are parametrised as the
+    course's R_ω·R_φ·R_κ (the same on both sides, so the choice does not matter).
+
+    >>> bool(bundle_rotation_476("kappa").has(kappa_i))
+    False
+    """
+    if reading not in ("kappa", "kappa_i"):
+        raise ValueError(f"reading must be 'kappa' or 'kappa_i', got {reading!r}")
+    R = rotation_opk(xi_b, eta_b, zeta_b)
+    A = rotation_opk(omega, phi, kappa if reading == "kappa" else kappa_i)
+    x = sp.Matrix(sp.symbols("u v w", real=True))
+    X = R * (A * x)
+    return X.jacobian(x)          # the matrix that maps x to X
 
 
 def _ev476(which: str) -> Evidence:
-    """4.76: the product is a rotation; the arguments of A_i must match the left side."""
+    """4.76: entry-wise comparison of each print with the derivation under both readings."""
+    from photolib.symcheck import equivalent
+    printed = _print476(which)
+    res = {rd: equivalent(printed, bundle_rotation_476(rd), time_budget=3.0)
+           for rd in ("kappa", "kappa_i")}
+    want = {"old": ("not-equal", "equal"), "corrected": ("equal", "not-equal")}[which]
+    got = (res["kappa"].kind, res["kappa_i"].kind)
     if not dlt.composed_rotation_is_rotation():
         return Evidence("wrong", "R(ξ, η, ζ)·A(ω, φ, κ) is not a rotation")
-    detail = "R(ξ, η, ζ)·A(ω, φ, κ) is orthonormal with det 1 (30 digits)"
-    if which == "corrected":
-        return Evidence("right", detail + "; A_i takes the κ of R_i(ω, φ, κ)")
-    return Evidence(OLD_476, detail + "; A_i(ω, φ, κ_i) depends on κ_i, which the left side "
-                    "does not name")
+    if got != want:
+        return Evidence(f"not-checkable: comparison gave {got}", str(got))
+    bad = res["kappa"] if which == "old" else res["kappa_i"]
+    return Evidence(V476, f"entry-wise: A_i with the κ of R_i {got[0]} ({res['kappa'].method}), "
+                    f"A_i with κ_i {got[1]} ({res['kappa_i'].method}); the prints differ in "
+                    "the name of one argument only",
+                    bad.counterexample, bad.values)
 
 
 def records():
@@ -150,30 +200,34 @@ def records():
     r.append(Record(
         id="luhmann:4.76", source=SRC + ", p. 290, formula 4.76", item="rotation of a bundle",
         kind="formula",
-        specs={"old": VersionSpec(OLD_476, claim="wrong", check=lambda: _ev476("old")),
-               "corrected": VersionSpec("right", claim="right",
-                                        check=lambda: _ev476("corrected"))},
-        note="R_i = R(ξ,η,ζ)·A_i is a composition of rotations; the check confirms it is a "
-             "rotation whichever κ A_i takes. The two prints differ in notation only: the "
-             "old one is right once κ_i denotes the κ of the left side."))
+        specs={w: VersionSpec(V476, claim="wrong" if w == "old" else "right",
+                              expr=lambda w=w: _print476(w), check=lambda w=w: _ev476(w))
+               for w in ("old", "corrected")},
+        steps=("X = R(ξ, η, ζ)·(A_i·x): image i → bundle frame (A_i) → object frame, so "
+               "R_i = R(ξ, η, ζ)·A_i",
+               "reading 1: A_i = A(ω, φ, κ) with the κ of the left side R_i(ω, φ, κ)",
+               "reading 2: A_i = A(ω, φ, κ_i) with an angle κ_i of image i",
+               "each print compared entry-wise with both derivations: each equals one of them"),
+        note="The old and corrected prints differ only in the name of A_i's third argument. "
+             "The errata list defines neither A_i nor ξ, η, ζ, so which κ belongs in A_i is a "
+             "question of notation that no derivation decides. Each print equals the "
+             "derivation under one reading and differs from it under the other (a "
+             "counterexample in `--id`); either way R_i is a rotation (orthonormal, det 1)."))
     r.append(Record(
         id="luhmann:example-4.8", source=SRC + ", p. 298, example 4.8",
         item="stereo normal case: Z from parallax", kind="example",
-        specs={"old": VersionSpec("not-checkable: the image coordinates of example 4.8 are "
-                                  "not printed in the errata list; c = 64 mm versus 60.2 mm "
-                                  "is a camera datum", check=lambda: _ev48("old"),
-                                  claim="wrong"),
-               "corrected": VersionSpec(
-                   "right-under-condition: Luhmann's negative c (z' = c): Z = c·b/px' = "
-                   "−c_course·b/px'; image coordinates not printed, so only old and corrected "
-                   "results are checked against each other", check=lambda: _ev48("corrected"),
-                   claim="right")},
+        specs={"old": VersionSpec(EX48_OLD, check=lambda: _ev48("old"), claim="wrong"),
+               "corrected": VersionSpec(EX48_NEW, check=lambda: _ev48("corrected"),
+                                        claim="right")},
         derivation=stereo.height_from_parallax,
         steps=("normal case from the collinearity equations: px' = x'1 − x'2 = −c·B/Z",
                "Z = −c·B/px' (course c > 0); Luhmann's c < 0 gives Z = c·b/px'",
-               "old: px' = c_old·b/Z_old; corrected Z = c_new·b/px' compared with the print"),
+               "old: px' = c_old·b/Z_old; c_new·b/px' reproduces the corrected Z: a "
+               "consistency of the two prints, no independent check"),
         note="Both prints imply the same parallaxes (19.79 mm and 1.313 mm): the erratum only "
-             "changes c; Z scales with c."))
+             "changes c, and Z scales with c. That is all the two prints show: the parallaxes "
+             "come from the old print itself, so the corrected Z are no more checked than the "
+             "old ones. Deciding either needs the image coordinates, which the list leaves out."))
     r.append(Record(
         id="luhmann:table-4.1", source=SRC + ", p. 309, table 4.1",
         item="observations and redundancy of a block", kind="example",

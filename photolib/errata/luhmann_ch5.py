@@ -100,7 +100,12 @@ def records():
         domain=lambda: {p1: (0.05, 0.95), sig: (0.1, 3.0)},
         steps=("two levels h1 < h2 with fractions p1, p2 = 1 − p1 keep m1 and σ² iff "
                "h1 = m1 − σ√(p2/p1), h2 = m1 + σ√(p1/p2) (checked by the moments)",),
-        note="The old h1 is right once p2 = 1 − p1 is stated, as the correction does."))
+        note="The old h1 is right once p2 = 1 − p1 is stated, as the correction does. The "
+             "layout of the list is ambiguous: h1 is printed once, under 'alte Fassung' after "
+             "the remark that p2 was not defined; the 'richtig' block prints h2, p1 and "
+             "p2 = 1 − p1 but not h1 again. The correction most likely keeps h1 unchanged "
+             "(with p2 now defined it is right), but as no corrected h1 is printed, the "
+             "record has no 'corrected' version."))
     rr.append(formula(
         "luhmann:5.49-h2", SRC + ", p. 420, formula 5.49", "moment-preserving threshold: "
         "upper level h2",

@@ -96,6 +96,100 @@ def _426_sign() -> Evidence:
                     values=(neg["det"], pos["det"]))
 
 
+PLANAR_43 = "right"
+
+
+def dlt_test_field(relief, L=L_PRINTED) -> list:
+    """A 4 × 4 grid of object points (mm) on a tilted plane, ± ``relief`` mm off it.
+
+    Parameters
+    ----------
+    relief : number
+        Height (mm) of the alternating ± offsets from the plane Z = X/10 − Y/20 + 50 mm;
+        0 gives an exactly planar field. Must be a non-negative number.
+    L : sequence of 11 numbers
+        DLT parameters of the camera that images the field (default: example 4.3's print).
+
+    Returns
+    -------
+    list of tuple
+        ``(X, Y, Z, x', y')`` as exact SymPy rationals, X, Y ∈ {−300, −100, 100, 300} mm,
+        x', y' = (L1X + L2Y + L3Z + L4)/(L9X + L10Y + L11Z + 1), … (mm).
+
+    Examples
+    --------
+    >>> pts = dlt_test_field(0)
+    >>> len(pts), pts[0][:3]
+    (16, (-300, -300, 35))
+    """
+    if not isinstance(relief, (int, float, sp.Rational)) or relief < 0:
+        raise ValueError(f"relief must be a non-negative number of mm, got {relief!r}")
+    Lr = [sp.Rational(str(v)) for v in L]
+    rel = sp.Rational(str(relief))
+    out = []
+    for i, X in enumerate((-300, -100, 100, 300)):
+        for j, Y in enumerate((-300, -100, 100, 300)):
+            Z = sp.Rational(X, 10) - sp.Rational(Y, 20) + 50 + (rel if (i + j) % 2 else -rel)
+            den = Lr[8] * X + Lr[9] * Y + Lr[10] * Z + 1
+            xi = (Lr[0] * X + Lr[1] * Y + Lr[2] * Z + Lr[3]) / den
+            yi = (Lr[4] * X + Lr[5] * Y + Lr[6] * Z + Lr[7]) / den
+            out.append((sp.Integer(X), sp.Integer(Y), Z, xi, yi))
+    return out
+
+
+def dlt_design_matrix(points) -> sp.Matrix:
+    """The 2n × 11 DLT design matrix: x'(L9X + L10Y + L11Z + 1) = L1X + L2Y + L3Z + L4, ….
+
+    Parameters
+    ----------
+    points : sequence of (X, Y, Z, x', y')
+        Object points (object unit) and their image points (image unit).
+
+    Returns
+    -------
+    sympy.Matrix, shape (2n, 11)
+        Rows ``(X, Y, Z, 1, 0, 0, 0, 0, −x'X, −x'Y, −x'Z)`` and
+        ``(0, 0, 0, 0, X, Y, Z, 1, −y'X, −y'Y, −y'Z)``; ``A·L = (x'1, y'1, …)``.
+
+    Examples
+    --------
+    >>> dlt_design_matrix(dlt_test_field(200)).rank()
+    11
+    """
+    rows = []
+    for X, Y, Z, xi, yi in points:
+        rows.append([X, Y, Z, 1, 0, 0, 0, 0, -xi * X, -xi * Y, -xi * Z])
+        rows.append([0, 0, 0, 0, X, Y, Z, 1, -yi * X, -yi * Y, -yi * Z])
+    return sp.Matrix(rows)
+
+
+def _conditioning(A: sp.Matrix) -> float:
+    """σ_min/σ_max of A with unit columns (mpmath SVD, 30 digits)."""
+    with mpmath.workdps(30):
+        M = mpmath.matrix([[mpmath.mpf(sp.Rational(e).p) / sp.Rational(e).q for e in row]
+                           for row in A.tolist()])
+        for j in range(M.cols):
+            n = mpmath.sqrt(sum(M[i, j] ** 2 for i in range(M.rows)))
+            for i in range(M.rows):
+                M[i, j] /= n
+        sv = mpmath.svd_r(M, compute_uv=False)
+        return float(min(sv) / max(sv))
+
+
+def _ev43_planar() -> Evidence:
+    ranks = {r: dlt_design_matrix(dlt_test_field(r)).rank() for r in (0, 5, 200)}
+    cond = {r: _conditioning(dlt_design_matrix(dlt_test_field(r))) for r in (5, 200)}
+    detail = (f"example 4.3's camera (printed L) imaging a 4 × 4 grid: rank {ranks[0]} for the "
+              f"plane, {ranks[5]} at ±5 mm relief, {ranks[200]} at ±200 mm; σ_min/σ_max of "
+              f"the column-normalised matrix {cond[5]:.3f} at ±5 mm, {cond[200]:.3f} at "
+              "±200 mm")
+    if ranks == {0: 8, 5: 11, 200: 11} and cond[5] < cond[200] / 5:
+        return Evidence(PLANAR_43, "a planar field leaves the 11 L undetermined (a "
+                        "3-parameter family of exact fits), a nearly planar one determines "
+                        "them badly; " + detail)
+    return Evidence("wrong", detail)
+
+
 def records():
     r = []
     r.append(formula(
@@ -130,4 +224,22 @@ def records():
              "it by at most ±0.05 mm (|x'0|: 0.058 mm off, ±0.046 mm). c_x, c_y, X0, R and "
              "ω, φ, κ agree within the rounding of L. The DLT R "
              "is not orthogonal (r1·r2 ≈ 0.0137): the DLT has a shear parameter."))
+    r.append(Record(
+        id="luhmann:example-4.3-planar", source=SRC + ", p. 253, example 4.3 (closing text)",
+        item="'die DLT zeigt deutliche Abweichungen, da … ein weitgehend ebenes "
+             "Objektpunktfeld vorliegt': the DLT degenerates for a (nearly) planar field",
+        kind="text",
+        specs={"corrected": VersionSpec(PLANAR_43, check=_ev43_planar, claim="right")},
+        steps=("on a plane Z = aX + bY + d the homogeneous camera P (3 × 4) acts only through "
+               "P·M, M the 4 × 3 map (X, Y, 1) → (X, Y, Z, 1): 9 conditions on 12 entries",
+               "so every P + N with N·M = 0 (a 3-dimensional space) fits the same image: the "
+               "11-column design matrix loses 3 ranks, 11 → 8",
+               "recomputed exactly (rational arithmetic) with example 4.3's printed L as the "
+               "camera; a small relief restores rank 11 but leaves it ill-conditioned"),
+        note="Checked is the mechanism: a planar field leaves the 11 DLT parameters undetermined "
+             "and a nearly planar one determines them badly, so c_x, c_y and x'0, y'0 scatter "
+             "(compare luhmann:example-4.3). That the example's field is nearly planar is the "
+             "list's datum; the points are not printed. Rank 9, sometimes quoted, holds only "
+             "for image points that are no projection of the plane (random numbers): points "
+             "imaged by a camera give rank 8."))
     return r

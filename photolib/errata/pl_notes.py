@@ -61,6 +61,22 @@ def _bundle() -> Evidence:
                     table=[(n, a, b, t, a == b) for n, a, b, t in rows])
 
 
+def _profile() -> Evidence:
+    """ΔX = ΔY along a profile at azimuth α: solved for α on [0, 2π)."""
+    alpha = sp.Symbol("alpha", real=True)
+    step = sp.Symbol("s", positive=True)
+    dX, dY = step * sp.cos(alpha), step * sp.sin(alpha)
+    equal_at = sorted(sp.solveset(sp.Eq(dX, dY), alpha, sp.Interval.Ropen(0, 2 * sp.pi)),
+                      key=float)
+    if not equal_at:
+        return Evidence("right", "ΔX ≠ ΔY for every azimuth")
+    a = equal_at[0]
+    deg = ", ".join(f"{float(v * 180 / sp.pi):g}°" for v in equal_at)
+    return Evidence("wrong", f"ΔX = ΔY at α = {deg} (solveset of s·cos α = s·sin α); at "
+                    f"α = {a}, s = 1: ΔX = ΔY = {dX.subs({alpha: a, step: 1})}",
+                    {alpha: a, step: 1})
+
+
 def records():
     out = []
     out.append(formula(
@@ -309,6 +325,20 @@ def _more_records():
                "still agrees"),
         note="Both give the fiducial centre; the principal point differs from it by the "
              "calibrated offsets Δx0, Δy0, which line 257 adds and line 223 leaves out."))
+    out.append(Record(
+        id="pl-notes:profile-dx-dy", source=SRC + ", stereo digitising (stereodigitalizacja), "
+        "line 73", item="'dla dowolnie zorientowanego profilu ΔX ≠ ΔY': along a profile of "
+        "any orientation ΔX ≠ ΔY", kind="text",
+        specs={"printed": VersionSpec("wrong", check=_profile, claim="right")},
+        steps=("a step of length s along a profile at azimuth α from the X axis: "
+               "ΔX = s·cos α, ΔY = s·sin α",
+               "ΔX − ΔY = s(cos α − sin α) = √2·s·cos(α + π/4): zero at α = π/4 and 5π/4 "
+               "(SymPy solveset on [0, 2π))",
+               "a profile at 45° has ΔX = ΔY for every step"),
+        note="Read literally the statement fails for profiles at 45° and 225°. The notes "
+             "probably mean that X and Y both vary along a profile (unlike a contour, where "
+             "the operator holds Z); that too fails for profiles parallel to an axis, where "
+             "ΔY = 0 or ΔX = 0."))
     out.append(Record(
         id="pl-notes:affine-description", source=SRC + ", 'Transformację afiniczną', line 299",
         item="affine transformation described as a conformal transformation with different "

@@ -50,7 +50,7 @@ def test_module_entry_point_id():
     res = subprocess.run([sys.executable, "-m", "photolib", "errata", "--id", "luhmann:2.86"],
                          capture_output=True, text=True, timeout=120)
     assert res.returncode == 0, res.stderr
-    assert "right-under-condition: A = 1" in res.stdout
+    assert "right-under-condition: A² = 1" in res.stdout
 
 
 def test_widget_callback_and_builder():
