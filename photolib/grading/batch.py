@@ -34,7 +34,7 @@ from photolib.grading.extract import (
 )
 from photolib.grading.judge import Judgement, judge
 from photolib.grading.notebook import parameters_for
-from photolib.grading.sandbox import Limits, SandboxedKernel
+from photolib.grading.sandbox import MAX_MESSAGE_BYTES, Limits, SandboxedKernel
 from photolib.grading.submission import (
     SubmissionError,
     chapter_claims,
@@ -58,6 +58,8 @@ COPY_TOTAL_BYTES = 64 * 1024 * 1024
 COPY_ENTRIES = 2000
 #: longest message kept in the gradebook and the feedback
 MESSAGE_CHARS = 300
+#: seconds the extraction may take beyond what is left of the submission's time limit
+EXTRACT_GRACE = 10.0
 
 
 def clean_message(text, limit: int = MESSAGE_CHARS) -> str:
@@ -234,13 +236,30 @@ def _copy_folder(src: Path, dst: Path, keep: str, nb) -> list[str]:
     return skipped
 
 
-def _run_cells(pool, path, nb, cells, limits, deadline, skipped_files=None):
+@dataclass
+class _Run:
+    """What running a submission's cells left: see :func:`_run_cells`."""
+
+    kernel: SandboxedKernel | None
+    errors: list
+    deaths: list
+    timed_out: bool
+    dropped: int
+    text: str
+    deadline: float
+    oversized: int = 0
+    oom: int = 0
+
+
+def _run_cells(pool, path, nb, cells, limits, deadline, skipped_files=None) -> _Run:
     """Run the cells; restart after a kernel death and skip the cell that killed it.
 
     Copying the folder does not count against the time limit: ``deadline`` moves by the
-    time the copy took.
+    time the copy took. ``oom`` counts processes the submission's memory limit (cgroup)
+    killed in the kernels discarded here, ``oversized`` kernel messages dropped unread.
     """
     skip, errors, deaths, timed_out, dropped = set(), [], [], False, 0
+    oversized = oom = 0
     for _ in range(MAX_RESTARTS + 1):
         kernel = pool.get()
         t_copy = time.monotonic()
@@ -258,9 +277,11 @@ def _run_cells(pool, path, nb, cells, limits, deadline, skipped_files=None):
             if remaining <= 0:
                 timed_out = True
                 break
+            oom_before = kernel.oom_kills()
             result = kernel.execute(source, remaining)
             texts.append(result.text)
             dropped += result.dropped
+            oversized += result.oversized
             if result.payloads:
                 errors.append((i, "Tampering: the cell published a grading result"))
             if result.status == "error":
@@ -269,16 +290,22 @@ def _run_cells(pool, path, nb, cells, limits, deadline, skipped_files=None):
                 timed_out = True
                 break
             elif result.status == "dead":
-                deaths.append((i, result.error))
+                reason = result.error
+                if kernel.oom_kills() > oom_before:
+                    reason = f"memory limit of {limits.memory_mb} MiB for all its processes; " \
+                             + reason
+                deaths.append((i, reason))
                 skip.add(i)
                 died = True
                 break
         if not died:
-            return kernel, errors, deaths, timed_out, dropped, "".join(texts)
+            return _Run(kernel, errors, deaths, timed_out, dropped, "".join(texts), deadline,
+                        oversized, oom)
+        oom += kernel.oom_kills()
         pool.discard(kernel)
         if time.monotonic() >= deadline:
             break
-    return None, errors, deaths, timed_out, dropped, ""
+    return _Run(None, errors, deaths, timed_out, dropped, "", deadline, oversized, oom)
 
 
 def _failed(path, status, detail, exercises, sid="", chapter=None, t0=None):
@@ -335,20 +362,24 @@ def grade_submission(path, pool: KernelPool, limits: Limits, judges: JudgePool |
     exercises = chapter_exercises(name)
     deadline = t0 + limits.timeout
     skipped_files: list[str] = []
-    kernel, errors, deaths, timed_out, dropped, text = _run_cells(
-        pool, path, nb, code_cells(nb), limits, deadline, skipped_files)
+    run = _run_cells(pool, path, nb, code_cells(nb), limits, deadline, skipped_files)
+    kernel, errors, deaths, timed_out = run.kernel, run.errors, run.deaths, run.timed_out
     notes = [f"cell {i + 1}: {clean_message(e, 200)}" for i, e in errors[:5]]
     notes += [f"cell {i + 1} killed the kernel ({e}); it was skipped" for i, e in deaths]
     if timed_out:
         notes.append(f"time limit of {limits.timeout:g} s reached; later cells did not run")
-    if dropped:
-        notes.append(f"{dropped} characters of output dropped")
+    if run.dropped:
+        notes.append(f"{run.dropped} characters of output dropped")
+    if run.oversized:
+        notes.append(f"{run.oversized} kernel message(s) larger than "
+                     f"{MAX_MESSAGE_BYTES >> 20} MiB dropped unread (output lost)")
     if skipped_files:
         notes.append(f"{len(skipped_files)} file(s) of the folder not copied: "
                      + ", ".join(skipped_files[:3]))
     tampered = any(e.startswith("Tampering") for _, e in errors)
     record, kernel_sid, lost = None, NOT_ANSWERED, False
     params = {}
+    oom = run.oom
     try:
         if kernel is None:
             raise ExtractionError("the kernel died; no answers could be read")
@@ -361,8 +392,11 @@ def grade_submission(path, pool: KernelPool, limits: Limits, judges: JudgePool |
                                                                        "hidden"), p)]
                 params[ex.id] = cases
             requests.append({"name": ex.answer, "cases": cases})
-        code, nonce = build_extraction(requests)
-        result = kernel.execute(code, timeout=extraction_seconds(requests))
+        # the extraction may run a little past the submission's time limit, never far
+        budget = min(extraction_seconds(requests),
+                     max(run.deadline - time.monotonic(), 0.0) + EXTRACT_GRACE)
+        code, nonce = build_extraction(requests, budget)
+        result = kernel.execute(code, timeout=budget + 5)
         if result.status not in ("ok",):
             raise ExtractionError(f"reading the answers failed ({result.status}: "
                                   f"{clean_message(result.error, 200)})")
@@ -375,6 +409,7 @@ def grade_submission(path, pool: KernelPool, limits: Limits, judges: JudgePool |
         record = None
     finally:
         if kernel is not None:
+            oom += kernel.oom_kills()
             pool.discard(kernel)
     if sid is None:
         sid = valid_student_id(kernel_sid)
@@ -396,14 +431,19 @@ def grade_submission(path, pool: KernelPool, limits: Limits, judges: JudgePool |
     judgements = [j if len(j.message) <= MESSAGE_CHARS and "\n" not in j.message
                   else Judgement(j.exercise_id, j.status, j.points, j.max_points,
                                  clean_message(j.message), j.mistake) for j in judgements]
-    status = _status(errors, deaths, timed_out, tampered, kernel is None, sid, lost)
+    if oom:
+        notes.append(f"the submission's processes together went over the memory limit of "
+                     f"{limits.memory_mb} MiB: {oom} process(es) killed")
+    status = _status(errors, deaths, timed_out, tampered, kernel is None, sid, lost, oom)
     return Graded(str(path), sid or "", status, clean_message("; ".join(notes), 1000), name,
-                  judgements, text, time.monotonic() - t0)
+                  judgements, run.text, time.monotonic() - t0)
 
 
-def _status(errors, deaths, timed_out, tampered, no_kernel, sid, lost=False) -> str:
+def _status(errors, deaths, timed_out, tampered, no_kernel, sid, lost=False, oom=0) -> str:
     if tampered:
         return "tampered"
+    if oom:  # the cgroup killed a process of the submission: whatever followed came of it
+        return "memory-limit"
     if no_kernel:
         return "kernel-died"
     if lost:

@@ -34,14 +34,33 @@ def assign_main(argv: list[str]) -> int:
 
 
 def grade_main(argv: list[str]) -> int:
-    """Grade submissions into a gradebook; see ``docs/instructors.md``."""
-    from photolib.grading.batch import grade_batch
+    """Grade submissions into a gradebook; see ``docs/instructors.md``.
+
+    Everything it writes is private: created under umask 077 (files 0600, folders 0700).
+    """
+    # imported before the umask changes, so that no byte-code file is written 0600
+    import tqdm  # noqa: F401
+
+    import photolib.grading.batch
+    import photolib.grading.report  # noqa: F401
+    old_umask = os.umask(0o077)
+    try:
+        return _grade(argv)
+    finally:
+        os.umask(old_umask)
+
+
+def _grade(argv: list[str]) -> int:
+    from photolib.grading.batch import Graded, grade_batch
     from photolib.grading.exercises import chapters
+    from photolib.grading.judge import Judgement
     from photolib.grading.report import (
         Gradebook,
         feedback_markdown,
         feedback_name,
+        shared_folder_problem,
         summary_markdown,
+        write_private,
     )
     from photolib.grading.sandbox import sandbox_support
     parser = argparse.ArgumentParser(prog="python -m photolib grade",
@@ -51,7 +70,9 @@ def grade_main(argv: list[str]) -> int:
     parser.add_argument("--feedback", type=Path, help="folder for one Markdown file per student")
     parser.add_argument("--jobs", type=int, default=1, help="submissions graded at once")
     parser.add_argument("--timeout", type=float, default=60.0, help="seconds per submission")
-    parser.add_argument("--memory", type=int, default=1536, help="MiB per kernel")
+    parser.add_argument("--memory", type=int, default=1536,
+                        help="MiB per submission: the address space of each of its processes "
+                        "and, with cgroups, all its processes together")
     parser.add_argument("--judge-timeout", type=float, default=30.0,
                         help="seconds for judging one answer in the grader")
     parser.add_argument("--chapter", help="the gradebook's chapter (default: the chapter "
@@ -85,6 +106,17 @@ def grade_main(argv: list[str]) -> int:
     if chapter not in chapters():
         parser.error(f"unknown chapter {chapter!r}; chapters: {', '.join(chapters())}")
     ids = [ex.id for ex in chapters()[chapter]]
+    folders = [args.out.parent] + ([args.feedback] if args.feedback else [])
+    for folder in folders:
+        folder.mkdir(parents=True, exist_ok=True)
+    if sandbox_support().own_user:  # kernels run as other users: they must not reach these
+        for option, folder in zip(("--out", "--feedback"), folders):
+            problem = shared_folder_problem(folder)
+            if problem:
+                print(f"grade: refusing {option} {folder}: {problem}. Kernels run as other "
+                      "users and could plant symbolic links or read the grades there; use a "
+                      "private folder (e.g. mkdir -m 700 ~/grading)", file=sys.stderr)
+                return 2
     try:
         book = Gradebook(args.out, ids, force=args.force)
     except ValueError as exc:
@@ -96,23 +128,18 @@ def grade_main(argv: list[str]) -> int:
     if skipped:
         print(f"grade: {skipped} submission(s) already in {args.out} skipped (--force regrades)",
               file=sys.stderr)
-    from photolib.grading.batch import Graded
-    from photolib.grading.judge import Judgement
     for p in missing:
         if args.force or not book.is_done(p):
             book.add(Graded(str(p), "", "missing", "file not found", chapter,
                             [Judgement(ex.id, "not-answered", 0.0, float(ex.points),
                                        "file not found") for ex in chapters()[chapter]]))
-    if args.feedback:
-        args.feedback.mkdir(parents=True, exist_ok=True)
     from tqdm import tqdm
     bar = tqdm(total=len(todo), unit="nb", desc="grading", disable=args.no_progress)
 
     def done(graded):
         book.add(graded)
         if args.feedback:
-            (args.feedback / feedback_name(graded)).write_text(feedback_markdown(graded),
-                                                               encoding="utf-8")
+            write_private(args.feedback / feedback_name(graded), feedback_markdown(graded))
         bar.update(1)
 
     grade_batch(todo, limits, jobs=args.jobs, on_result=done, chapter=chapter)
@@ -120,7 +147,7 @@ def grade_main(argv: list[str]) -> int:
     summary = summary_markdown(list(book.done.values()))
     summary_path = (args.feedback / "summary.md" if args.feedback
                     else args.out.with_name(args.out.stem + ".summary.md"))
-    summary_path.write_text(summary, encoding="utf-8")
+    write_private(summary_path, summary)
     print(summary)
     return 0
 

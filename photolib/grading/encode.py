@@ -1,7 +1,9 @@
 """Answers as data: encode a value into JSON inside the kernel, decode it in the grader.
 
 :func:`encode_value` runs in the student's kernel (its source is injected by the grader, so
-it does not depend on anything the notebook may have patched) and turns numbers, arrays,
+it does not depend on anything the notebook may have patched; the transport of the record
+back to the grader does run in the student's process: see docs/instructors.md, "What is and
+is not protected") and turns numbers, arrays,
 strings and SymPy expressions into JSON. :func:`decode_value` runs in the grader and accepts
 only a whitelist: SymPy trees are rebuilt from known node names, numbers from strings; there is
 no ``eval`` anywhere.

@@ -35,7 +35,7 @@ class ExtractionError(RuntimeError):
     """No trustworthy answer record came back from the kernel."""
 
 
-def build_extraction(requests: list[dict]) -> tuple[str, str]:
+def build_extraction(requests: list[dict], seconds: float | None = None) -> tuple[str, str]:
     """Source of the extraction cell and its nonce.
 
     Parameters
@@ -44,6 +44,13 @@ def build_extraction(requests: list[dict]) -> tuple[str, str]:
         ``{"name": variable, "cases": None or list of argument lists}`` per exercise, the
         arguments as :func:`case_to_json` writes them (numbers, or ``{"array": nested list}``
         which the kernel turns back into a float ``numpy`` array).
+    seconds : float, optional
+        Time for the whole extraction (default :func:`extraction_seconds`): once it is used
+        up, the answers not yet read are reported as not read in time, and the record is
+        published with what was read.
+
+    ``STUDENT_ID`` is read only when it is exactly a ``str`` (never a subclass, whose methods
+    would run student code), with ``str`` methods.
 
     Each answer is encoded (and each student function called) in a child process forked from
     the kernel, which the kernel kills when it overruns (:data:`CALL_SECONDS` per call,
@@ -52,6 +59,8 @@ def build_extraction(requests: list[dict]) -> tuple[str, str]:
     read in the kernel itself, under the alarm.
     """
     nonce = secrets.token_hex(16)
+    if seconds is None:
+        seconds = extraction_seconds(requests)
     source = "\n".join([inspect.getsource(encode.encode_value), inspect.getsource(encode._tree)])
     code = f'''
 def _photolib_extract_{nonce}():
@@ -65,6 +74,7 @@ def _photolib_extract_{nonce}():
     except NameError:
         _ns = vars(_sys.modules["__main__"])
     _requests = _json.loads({json.dumps(json.dumps(requests))})
+    _end = _time.monotonic() + {float(seconds)!r}
 
     def _encode_one(_r, _emit):
         _value = _ns.get(_r["name"])
@@ -144,7 +154,7 @@ def _photolib_extract_{nonce}():
                 _os._exit(0)
         _os.close(_wfd)
         _buf, _events, _late, _size = b"", [], False, 0
-        _deadline = _time.monotonic() + _seconds
+        _deadline = min(_time.monotonic() + _seconds, _end)
         try:
             while True:
                 _left = _deadline - _time.monotonic()
@@ -165,7 +175,7 @@ def _photolib_extract_{nonce}():
                 while b"\\n" in _buf:
                     _line, _buf = _buf.split(b"\\n", 1)
                     _events.append(_json.loads(_line))
-                    _deadline = _time.monotonic() + _seconds  # the next call starts afresh
+                    _deadline = min(_time.monotonic() + _seconds, _end)  # next call afresh
         finally:
             _os.close(_rfd)
             if _late:
@@ -174,15 +184,25 @@ def _photolib_extract_{nonce}():
                 except OSError:
                     pass
             _os.waitpid(_pid, 0)
-        if _late:
+        if _late and _time.monotonic() >= _end:
+            _events.append({{"error": "the submission's time limit was reached while this "
+                                      "answer was read, and it was stopped"}})
+        elif _late:
             _what = "your function" if _r["cases"] is not None else "reading the answer"
             _events.append({{"error": _what + " took longer than " + str(_seconds)
                                       + " s or gave too much data, and was stopped"}})
         return _collect(_events, _r)
 
-    _out = {{"nonce": {nonce!r}, "student_id": encode_value(_ns.get("STUDENT_ID")), "answers": {{}}}}
+    _sid = _ns.get("STUDENT_ID")
+    _sid = {{"t": "str", "v": str.__getitem__(_sid, slice(0, 1000))}} if type(_sid) is str \
+        else {{"t": "none"}}
+    _out = {{"nonce": {nonce!r}, "student_id": _sid, "answers": {{}}}}
     for _r in _requests:
         _seconds = {CALL_SECONDS + 1:g} if _r["cases"] is not None else {VALUE_SECONDS:g}
+        if _time.monotonic() >= _end:
+            _out["answers"][_r["name"]] = {{"error": "the submission's time limit was reached "
+                                                     "before this answer was read"}}
+            continue
         _out["answers"][_r["name"]] = _isolated(_r, _seconds)
     from IPython.display import publish_display_data
     publish_display_data({{{RESULT_MIME!r}: _out}})

@@ -7,18 +7,28 @@ verdicts so a rerun can skip graded submissions and still summarise every mistak
 regraded submission (``--force``) replaces its own row and keeps all others. Text cells are
 one line of bounded length, and a cell that a spreadsheet would read as a formula (starting
 with ``= + - @``) gets a leading apostrophe.
+
+Every file is written without following symbolic links: a rewrite goes to a temporary file
+of a random name made with ``O_EXCL`` (:func:`tempfile.mkstemp`) in the target's folder and
+replaces the target, an append opens the target with ``O_NOFOLLOW``; files are created
+0600. :func:`shared_folder_problem` tells whether other users could plant links in a folder.
 """
 
 from __future__ import annotations
 
 import csv
 import hashlib
+import io
 import json
+import os
 import re
+import stat
+import tempfile
 from collections import Counter
 from pathlib import Path
 
-__all__ = ["BASE_COLUMNS", "Gradebook", "csv_cell", "feedback_markdown", "summary_markdown"]
+__all__ = ["BASE_COLUMNS", "Gradebook", "append_private", "csv_cell", "feedback_markdown",
+           "shared_folder_problem", "summary_markdown", "write_private"]
 
 BASE_COLUMNS = ["submission", "student_id", "status", "chapter", "total", "max_total"]
 
@@ -42,6 +52,72 @@ def csv_cell(text, limit: int = 1000) -> str:
     return "'" + text if text[:1] in ("=", "+", "-", "@") else text
 
 
+def write_private(path, text: str) -> None:
+    """Write ``text`` to ``path`` atomically, mode 0600, never through a symbolic link.
+
+    The text goes to a new file of a random name in the same folder (``O_EXCL``), which then
+    replaces ``path``; a symbolic link at ``path`` is replaced, not followed.
+    """
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name[:60]}.", suffix=".tmp")
+    try:
+        os.fchmod(fd, 0o600)
+        with os.fdopen(fd, "w", encoding="utf-8", newline="") as f:
+            f.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+
+
+def append_private(path, text: str) -> None:
+    """Append ``text`` to ``path`` (created 0600); refuses a symbolic link (``O_NOFOLLOW``)."""
+    fd = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CREAT | os.O_NOFOLLOW | os.O_CLOEXEC,
+                 0o600)
+    with os.fdopen(fd, "w", encoding="utf-8", newline="") as f:
+        f.write(text)
+
+
+def shared_folder_problem(folder) -> str | None:
+    """Why anyone could replace files in ``folder`` (None: only its owner and root can).
+
+    A folder anyone may write to (``o+w``, as ``/tmp``) is refused, and so is a folder below
+    one that is not sticky; in a sticky folder (``/tmp``) the next step must belong to root or
+    this user, so that nobody else may rename or replace it. Symbolic links are resolved
+    first. Group permissions do not count: a sandboxed kernel belongs to no group.
+
+    >>> shared_folder_problem("/tmp") is None
+    False
+    """
+    real = Path(os.path.realpath(folder))
+    parts = [real, *real.parents][::-1]  # "/" first
+    mine = (0, os.geteuid())
+    for i, part in enumerate(parts):
+        try:
+            info = os.stat(part)
+        except FileNotFoundError:
+            break  # will be made by this process, 0700
+        except OSError as exc:
+            return f"{part} cannot be inspected ({exc.strerror})"
+        if not info.st_mode & stat.S_IWOTH:
+            continue
+        mode = stat.filemode(info.st_mode)
+        if part == real:
+            return f"other users may write to {part} ({mode})"
+        if not info.st_mode & stat.S_ISVTX:
+            return f"other users may write to {part} ({mode}), which holds {real}"
+        try:
+            nxt = os.stat(parts[i + 1])
+        except FileNotFoundError:
+            break
+        if nxt.st_uid not in mine:
+            return f"{parts[i + 1]} in the shared folder {part} belongs to user {nxt.st_uid}"
+    return None
+
+
 class Gradebook:
     """An append-only gradebook CSV with its JSON-lines sidecar.
 
@@ -60,6 +136,9 @@ class Gradebook:
         self.columns = BASE_COLUMNS + list(exercise_ids) + ["detail"]
         self.done: dict[str, dict] = {}
         self._rows: dict[str, list] = {}
+        for p in (self.path, self.details_path):
+            if p.is_symlink():
+                raise ValueError(f"{p} is a symbolic link; give the gradebook's real path")
         if self.path.exists():
             with self.path.open(newline="", encoding="utf-8") as f:
                 reader = csv.reader(f)
@@ -90,16 +169,13 @@ class Gradebook:
     def _rewrite(self) -> None:
         """Write the CSV and the sidecar afresh from the rows and records kept."""
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = self.path.with_name(self.path.name + ".tmp")
-        with tmp.open("w", newline="", encoding="utf-8") as f:
-            writer = csv.writer(f)
-            writer.writerow(self.columns)
-            writer.writerows(self._rows.values())
-        tmp_details = self.details_path.with_name(self.details_path.name + ".tmp")
-        tmp_details.write_text("".join(json.dumps(r) + "\n" for r in self.done.values()),
-                               encoding="utf-8")
-        tmp.replace(self.path)
-        tmp_details.replace(self.details_path)
+        table = io.StringIO(newline="")
+        writer = csv.writer(table)
+        writer.writerow(self.columns)
+        writer.writerows(self._rows.values())
+        write_private(self.path, table.getvalue())
+        write_private(self.details_path,
+                      "".join(json.dumps(r) + "\n" for r in self.done.values()))
 
     def add(self, graded) -> None:
         """Add one graded submission (replacing its earlier row, if any) and flush."""
@@ -120,10 +196,10 @@ class Gradebook:
         if replace:
             self._rewrite()
             return
-        with self.path.open("a", newline="", encoding="utf-8") as f:
-            csv.writer(f).writerow(row)
-        with self.details_path.open("a", encoding="utf-8") as f:
-            f.write(json.dumps(record) + "\n")
+        line = io.StringIO(newline="")
+        csv.writer(line).writerow(row)
+        append_private(self.path, line.getvalue())
+        append_private(self.details_path, json.dumps(record) + "\n")
 
 
 def feedback_markdown(graded) -> str:

@@ -3,29 +3,39 @@
 The kernel is launched through a chain of small system tools, each of which ``exec``\\ s the
 next, so the kernel's process id is the one jupyter_client watches::
 
-    prlimit --as=… --nproc=… --cpu=… --fsize=… --nofile=…   (memory, processes, CPU time)
-      unshare --net                                           (an empty network namespace)
-        setpriv --reuid=U --regid=U --clear-groups            (a user of its own, no privileges)
-          python -m ipykernel_launcher -f CONNECTION_FILE
+    unshare --net --ipc --mount                          (no network, own IPC and mount namespaces)
+      sh -c 'echo $$ > CGROUP/cgroup.procs; mount …'     (as root: enter the submission's cgroup;
+                                                          private /tmp, /var/tmp, /run/lock and
+                                                          /dev/shm; /proc with hidepid=2)
+        prlimit --as=… --nproc=… --cpu=… --fsize=… --nofile=…   (per-process limits)
+          setpriv --reuid=U --regid=U --clear-groups --no-new-privs  (a user of its own)
+            python -m ipykernel_launcher -f CONNECTION_FILE
 
-The kernel talks to the grader over Unix domain sockets (``transport="ipc"``), which work
-without any network interface. Each kernel gets a user id of its own from :class:`UidPool`, so
-a fork bomb meets ``RLIMIT_NPROC`` for that kernel alone and everything the kernel started
-can be killed at the end with ``kill(-1)`` as that user. The unprivileged user cannot write
-to the course repository, the submissions or the grader's files; it writes only to its
-working copy (and world-writable places such as ``/tmp``).
-
-Where a step is not permitted (not root, no ``unshare``), :func:`sandbox_support` reports it
-and the kernel runs with what remains: see ``docs/instructors.md``.
+The kernel talks to the grader over Unix domain sockets (``transport="ipc"``) in its own
+folder, which work without any network interface and stay visible in the private mounts.
+Each kernel gets a user id of its own from :class:`UidPool`, so a fork bomb meets
+``RLIMIT_NPROC`` for that kernel alone and everything the kernel started can be killed at the
+end as that user. The cgroup (v2 ``memory.max``/``pids.max``, or v1
+``memory.limit_in_bytes``/``pids.max``) bounds the memory of the kernel's whole process tree,
+including what it puts in its private tmpfs folders. The unprivileged user cannot write to the
+course repository, the submissions or the grader's files; it writes only to its working copy
+and its private temporary folders, which vanish with the kernel. :func:`sandbox_support`
+reports which steps this machine permits; the kernel runs with what remains (see
+``docs/instructors.md``), and what a kernel leaves behind in shared places is removed
+(:func:`remove_files_of`, :func:`remove_ipc_of`).
 """
 
 from __future__ import annotations
 
+import ctypes
 import fcntl
 import functools
+import itertools
 import os
+import shlex
 import shutil
 import signal
+import stat
 import subprocess
 import sys
 import tempfile
@@ -34,20 +44,27 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import zmq
 from jupyter_client import KernelManager
+from zmq.utils.monitor import recv_monitor_message
 
 __all__ = [
+    "MAX_MESSAGE_BYTES",
     "ExecResult",
     "Limits",
     "SandboxSupport",
     "SandboxedKernel",
     "UidPool",
     "remove_files_of",
+    "remove_ipc_of",
     "sandbox_support",
 ]
 
 #: MIME type of the grader's own result messages (see :mod:`photolib.grading.extract`)
 RESULT_MIME = "application/x-photolib-grading+json"
+#: largest message frame the grader reads from a kernel (``zmq.MAXMSGSIZE``); a larger one is
+#: dropped unread (the socket is reconnected), so a kernel cannot inflate the grader's memory
+MAX_MESSAGE_BYTES = 16 * 1024 * 1024
 
 
 @dataclass(frozen=True)
@@ -59,13 +76,17 @@ class Limits:
     timeout : float
         Wall-clock seconds for running all cells of the notebook.
     memory_mb : int
-        Address-space limit of the kernel (``RLIMIT_AS``), MiB.
+        Memory of the submission, MiB: the address-space limit of each of its processes
+        (``RLIMIT_AS``) and, where cgroups are available, the memory of all its processes
+        together, including files in its private tmpfs folders.
     nproc : int
-        Processes and threads of the kernel's user (``RLIMIT_NPROC``).
+        Processes and threads of the kernel's user (``RLIMIT_NPROC``) and, with cgroups, of
+        its process tree (``pids.max``).
     output_bytes : int
         Output text kept per submission; the rest is counted and dropped.
     file_mb : int
-        Largest file the kernel may write (``RLIMIT_FSIZE``), MiB.
+        Largest file the kernel may write (``RLIMIT_FSIZE``), MiB; also the size of each of its
+        private ``/dev/shm``, ``/var/tmp`` and ``/run/lock`` (``/tmp``: twice that).
     judge_seconds : float
         Wall-clock seconds for decoding and judging one answer in the grader
         (:class:`photolib.grading.worker.JudgePool`); an answer over it scores zero.
@@ -97,6 +118,50 @@ class SandboxSupport:
     no_network: bool
     own_user: bool
     notes: tuple[str, ...] = ()
+    #: ``unshare --ipc``: SysV and POSIX IPC objects die with the kernel
+    ipc_namespace: bool = False
+    #: private tmpfs on /tmp, /var/tmp, /run/lock and /dev/shm (a mount namespace)
+    private_tmp: bool = False
+    #: /proc mounted with hidepid=2: the kernel sees only its own processes
+    hide_processes: bool = False
+    #: "v2", "v1" or "": the cgroup interface bounding each submission's memory and processes
+    cgroup: str = ""
+    #: ``setpriv --no-new-privs``: setuid programs give the kernel no privileges
+    no_new_privs: bool = False
+
+
+def _run_ok(cmd, **kw) -> bool:
+    try:
+        return subprocess.run(cmd, capture_output=True, timeout=30, **kw).returncode == 0
+    except (OSError, subprocess.SubprocessError):
+        return False
+
+
+#: places whose contents a kernel's private mount namespace replaces with a small tmpfs
+PRIVATE_PLACES = ("/tmp", "/var/tmp", "/run/lock", "/dev/shm")
+
+
+def _mount_script(base: str, work: str, places, size_mb: int, hide: bool) -> str:
+    """Shell steps (run as root in the new mount namespace) for private places and /proc.
+
+    ``base`` (the kernel's folder: working copy, IPC sockets, TMPDIR) may lie in one of the
+    places: the shell enters it first and binds it back to its path over the new tmpfs.
+    """
+    q = shlex.quote
+    steps = [f"cd {q(base)}"]
+    for place in places:
+        size = 2 * size_mb if place == "/tmp" else size_mb
+        steps.append(f"mount -t tmpfs -o size={size}m,mode=1777,nosuid,nodev "
+                     f"photolib-sandbox {q(place)}")
+    if places:
+        # "." is the folder entered above, the original: not canonicalised into the new tmpfs
+        # (the parents of base, made in the new tmpfs, must be enterable by the kernel's user)
+        steps += [f"(umask 022 && mkdir -p {q(base)})",
+                  f"mount --no-canonicalize --bind . {q(base)}"]
+    if hide:
+        steps.append("mount -t proc -o hidepid=2,nosuid,nodev,noexec proc /proc")
+    steps.append(f"cd {q(work)}")
+    return " && ".join(steps)
 
 
 @functools.cache
@@ -107,17 +172,20 @@ def sandbox_support() -> SandboxSupport:
     -------
     SandboxSupport
         ``no_network`` is true when ``unshare --net`` works; ``own_user`` when the grader runs
-        as root and ``setpriv`` exists (then each kernel runs as a user id of its own).
+        as root and ``setpriv`` exists (then each kernel runs as a user id of its own);
+        ``ipc_namespace``, ``private_tmp``, ``hide_processes``, ``cgroup`` and ``no_new_privs``
+        when those steps work (all but the IPC namespace need ``own_user``). ``notes`` says
+        in words what is missing.
     """
     notes = []
     prlimit = shutil.which("prlimit") is not None
     if not prlimit:
         notes.append("prlimit not found: no memory, CPU, process or file-size limits; "
                      "only the wall-clock timeout holds")
-    no_network = False
+    no_network = ipc_ns = False
     if shutil.which("unshare"):
-        probe = subprocess.run(["unshare", "--net", "true"], capture_output=True)
-        no_network = probe.returncode == 0
+        no_network = _run_ok(["unshare", "--net", "true"])
+        ipc_ns = no_network and _run_ok(["unshare", "--net", "--ipc", "true"])
     if not no_network:
         notes.append("unshare --net is not permitted: kernels keep the network")
     own_user = os.geteuid() == 0 and shutil.which("setpriv") is not None
@@ -128,7 +196,295 @@ def sandbox_support() -> SandboxSupport:
         notes.append("an unprivileged user cannot run this Python or import photolib (is the "
                      "repository or the virtual environment inside a folder only its owner may "
                      "enter, e.g. one made by mktemp -d?): kernels run as the grader's own user")
-    return SandboxSupport(prlimit, no_network, own_user, tuple(notes))
+    private_tmp = hide = nnp = False
+    cgroup = ""
+    if own_user:
+        nnp = _run_ok(["setpriv", "--no-new-privs", "true"])
+        if not nnp:
+            notes.append("setpriv --no-new-privs failed: setuid programs keep their privileges")
+        private_tmp, hide = _probe_mounts()
+        if not private_tmp:
+            notes.append("no private mount namespace (unshare --mount + tmpfs): kernels share "
+                         "/tmp, /var/tmp, /run/lock and /dev/shm with the host; their files there "
+                         "are removed after each kernel")
+        if not hide:
+            notes.append("/proc cannot be mounted with hidepid=2: a kernel can see other "
+                         "processes and their command lines (the gradebook path among them)")
+        cgroup = _cgroup_root().version
+        if not cgroup:
+            notes.append("no writable cgroup with memory and pids controllers: --memory holds "
+                         "per process, not for a submission's processes together")
+    if not ipc_ns:
+        notes.append("unshare --ipc is not permitted: SysV IPC objects a kernel leaves are "
+                     "removed after it ends" if own_user else
+                     "unshare --ipc is not permitted: SysV IPC objects a kernel leaves may stay")
+    return SandboxSupport(prlimit, no_network, own_user, tuple(notes), ipc_ns, private_tmp,
+                          hide, cgroup, nnp)
+
+
+def _probe_mounts() -> tuple[bool, bool]:
+    """Whether private tmpfs places (with the kernel folder bound back) and hidepid work."""
+    if not shutil.which("unshare") or not shutil.which("mount"):
+        return False, False
+    base = tempfile.mkdtemp(prefix="photolib-probe-")
+    try:
+        work = os.path.join(base, "work")
+        os.mkdir(work)
+        places = tuple(p for p in PRIVATE_PLACES if os.path.isdir(p))
+        open(os.path.join(base, "marker"), "w").close()
+        script = _mount_script(base, work, places, 1, False) + \
+            f" && test -e {shlex.quote(base)}/marker"
+        tmp_ok = _run_ok(["unshare", "--mount", "--propagation", "private", "--",
+                          "sh", "-c", script])
+        hide_ok = _run_ok(["unshare", "--mount", "--propagation", "private", "--", "sh", "-c",
+                           _mount_script(base, work, (), 1, True)])
+        return tmp_ok, hide_ok
+    finally:
+        shutil.rmtree(base, ignore_errors=True)
+
+
+@dataclass(frozen=True)
+class _CgroupRoot:
+    """Where this grader may create kernel cgroups: ``version`` "" when nowhere."""
+
+    version: str = ""
+    parents: tuple[tuple[str, str], ...] = ()  # (controller or "unified", folder)
+
+
+def _own_cgroups() -> tuple[dict, str | None]:
+    """This process's cgroup v1 paths by controller, and its cgroup v2 path."""
+    v1, v2 = {}, None
+    try:
+        lines = Path("/proc/self/cgroup").read_text().splitlines()
+    except OSError:
+        return v1, v2
+    for line in lines:
+        num, _, rest = line.partition(":")
+        controllers, _, path = rest.partition(":")
+        if num == "0" and controllers == "":
+            v2 = path
+        for c in controllers.split(","):
+            if c:
+                v1[c] = path
+    return v1, v2
+
+
+def _cgroup_mounts() -> list[tuple[str, str, str, set]]:
+    """(fstype, mount root, mount point, super options) of the cgroup file systems."""
+    found = []
+    try:
+        lines = Path("/proc/self/mountinfo").read_text().splitlines()
+    except OSError:
+        return found
+    for line in lines:
+        left, _, right = line.partition(" - ")
+        fields, rfields = left.split(), right.split()
+        if len(fields) >= 5 and len(rfields) >= 3 and rfields[0] in ("cgroup", "cgroup2"):
+            found.append((rfields[0], fields[3], fields[4], set(rfields[2].split(","))))
+    return found
+
+
+def _join(mount: str, root: str, path: str) -> str:
+    if root != "/" and path.startswith(root):
+        path = path[len(root):]
+    return os.path.normpath(mount + "/" + path.lstrip("/"))
+
+
+def _writable_cgroup(folder: str, files: tuple[str, ...]) -> bool:
+    """Whether a child cgroup can be made in ``folder`` with ``files`` written; cleans up."""
+    probe = os.path.join(folder, f"photolib-probe-{os.getpid()}")
+    try:
+        os.mkdir(probe)
+    except OSError:
+        return False
+    try:
+        for name in files:
+            Path(probe, name).write_text("max\n" if name.endswith(".max") else "-1\n")
+        return True
+    except OSError:
+        return False
+    finally:
+        try:
+            os.rmdir(probe)
+        except OSError:
+            pass
+
+
+def _remove_stale(folder: str) -> None:
+    """Remove empty kernel cgroups left by graders that are no longer running."""
+    try:
+        entries = os.listdir(folder)
+    except OSError:
+        return
+    for name in entries:
+        parts = name.split("-")
+        if name.startswith("photolib-grading-") and len(parts) > 2 and parts[2].isdigit():
+            if not os.path.exists(f"/proc/{parts[2]}"):
+                try:
+                    os.rmdir(os.path.join(folder, name))
+                except OSError:
+                    pass
+
+
+@functools.cache
+def _cgroup_root() -> _CgroupRoot:
+    """Find a cgroup (v2 preferred, else v1) in which this grader may create kernel cgroups.
+
+    Kernel cgroups are created below the grader's own cgroup, so every limit above it still
+    holds. cgroup v2 needs ``memory`` and ``pids`` enabled for children (delegation), v1 a
+    writable ``memory`` and ``pids`` hierarchy.
+    """
+    if os.geteuid() != 0:
+        return _CgroupRoot()
+    v1, v2 = _own_cgroups()
+    mounts = _cgroup_mounts()
+    if v2 is not None:
+        for fstype, root, mount, _ in mounts:
+            if fstype != "cgroup2":
+                continue
+            folder = _join(mount, root, v2)
+            try:
+                available = Path(folder, "cgroup.controllers").read_text().split()
+                enabled = Path(folder, "cgroup.subtree_control").read_text().split()
+            except OSError:
+                continue
+            if not {"memory", "pids"} <= set(available):
+                continue
+            if not {"memory", "pids"} <= set(enabled):
+                try:  # refused (EBUSY) when processes live in the grader's own cgroup
+                    Path(folder, "cgroup.subtree_control").write_text("+memory +pids\n")
+                except OSError:
+                    continue
+            if _writable_cgroup(folder, ("memory.max", "pids.max")):
+                _remove_stale(folder)
+                return _CgroupRoot("v2", (("unified", folder),))
+    parents = {}
+    for controller, limit in (("memory", "memory.limit_in_bytes"), ("pids", "pids.max")):
+        for fstype, root, mount, opts in mounts:
+            if fstype == "cgroup" and controller in opts and controller in v1:
+                folder = _join(mount, root, v1[controller])
+                if _writable_cgroup(folder, (limit,)):
+                    parents[controller] = folder
+                    break
+    if set(parents) == {"memory", "pids"}:
+        for folder in parents.values():
+            _remove_stale(folder)
+        return _CgroupRoot("v1", tuple(parents.items()))
+    return _CgroupRoot()
+
+
+_CGROUP_SERIAL = itertools.count()
+
+
+class KernelCgroup:
+    """The cgroup(s) of one kernel's process tree: memory and process limits, OOM count.
+
+    Parameters
+    ----------
+    root : _CgroupRoot
+    memory_bytes : int
+        Memory of all processes together (and no swap), bytes.
+    pids : int
+        Processes and threads of the tree.
+    """
+
+    def __init__(self, root: _CgroupRoot, memory_bytes: int, pids: int):
+        self.version = root.version
+        name = f"photolib-grading-{os.getpid()}-{next(_CGROUP_SERIAL)}-{os.urandom(3).hex()}"
+        self.dirs = {}
+        try:
+            for controller, parent in root.parents:
+                folder = os.path.join(parent, name)
+                os.mkdir(folder)
+                self.dirs[controller] = folder
+            if self.version == "v2":
+                d = self.dirs["unified"]
+                self._write(d, "memory.max", memory_bytes)
+                self._write(d, "memory.swap.max", 0, optional=True)
+                self._write(d, "pids.max", pids)
+            else:
+                d = self.dirs["memory"]
+                self._write(d, "memory.limit_in_bytes", memory_bytes)
+                self._write(d, "memory.memsw.limit_in_bytes", memory_bytes, optional=True)
+                self._write(self.dirs["pids"], "pids.max", pids)
+        except OSError:
+            self.remove()
+            raise
+
+    @staticmethod
+    def _write(folder, name, value, optional=False):
+        try:
+            Path(folder, name).write_text(f"{value}\n")
+        except OSError:
+            if not optional:
+                raise
+
+    @property
+    def procs_files(self) -> list[str]:
+        """The files a process writes its pid to, to enter the cgroup(s)."""
+        return [os.path.join(d, "cgroup.procs") for d in self.dirs.values()]
+
+    def oom_kills(self) -> int:
+        """How many processes of the tree the memory limit has killed so far."""
+        d = self.dirs.get("unified") or self.dirs.get("memory")
+        name = "memory.events" if self.version == "v2" else "memory.oom_control"
+        try:
+            for line in Path(d, name).read_text().splitlines():
+                key, _, value = line.partition(" ")
+                if key == "oom_kill":
+                    return int(value)
+        except (OSError, ValueError, TypeError):
+            pass
+        return 0
+
+    def pids(self) -> list[int]:
+        found = set()
+        for d in self.dirs.values():
+            try:
+                found.update(int(x) for x in Path(d, "cgroup.procs").read_text().split())
+            except (OSError, ValueError):
+                pass
+        return sorted(found)
+
+    def kill(self) -> None:
+        """SIGKILL every process in the cgroup(s) (v2: ``cgroup.kill``)."""
+        d = self.dirs.get("unified")
+        if d and os.path.exists(os.path.join(d, "cgroup.kill")):
+            try:
+                Path(d, "cgroup.kill").write_text("1\n")
+                return
+            except OSError:
+                pass
+        for _ in range(100):
+            pids = [p for p in self.pids() if p != os.getpid()]
+            if not pids:
+                return
+            for pid in pids:
+                try:
+                    os.kill(pid, signal.SIGKILL)
+                except OSError:
+                    pass
+            time.sleep(0.01)
+
+    def remove(self, wait: float = 5.0) -> None:
+        """Kill what is left and remove the cgroup(s); safe to call twice."""
+        if self.dirs:
+            self.kill()
+        end = time.monotonic() + wait
+        for key, d in list(self.dirs.items()):
+            while True:
+                try:
+                    os.rmdir(d)
+                    break
+                except FileNotFoundError:
+                    break
+                except OSError:  # dying processes still counted (EBUSY)
+                    if time.monotonic() > end:
+                        break
+                    self.kill()
+                    time.sleep(0.02)
+            if not os.path.exists(d):
+                del self.dirs[key]
 
 
 def _unprivileged_can_import(uid: int = 65534) -> bool:
@@ -220,6 +576,8 @@ class ExecResult:
 
     ``status`` is ``"ok"``, ``"error"`` (the code raised), ``"timeout"`` or ``"dead"`` (the
     kernel died). ``payloads`` are the data of display messages of type :data:`RESULT_MIME`.
+    ``dropped`` counts characters of output not kept, ``oversized`` messages over
+    :data:`MAX_MESSAGE_BYTES` that were dropped unread.
     """
 
     status: str
@@ -227,6 +585,7 @@ class ExecResult:
     text: str = ""
     dropped: int = 0
     payloads: list = field(default_factory=list)
+    oversized: int = 0
 
 
 def _processes_of(uid: int) -> list[int]:
@@ -263,15 +622,64 @@ def kill_user(uid: int, rounds: int = 100) -> None:
 
 
 #: shared writable places searched for files a sandbox user left behind
-SHARED_TMP = ("/tmp", "/var/tmp", "/dev/shm")
+SHARED_TMP = ("/tmp", "/var/tmp", "/dev/shm", "/run/lock", "/dev/mqueue")
 
 
-def remove_files_of(uid: int, places=SHARED_TMP) -> list[str]:
-    """Remove the entries directly in ``places`` owned by ``uid`` (a sandbox user)."""
+def _open_to_others(places) -> list[str]:
+    """``places`` and every folder below them that other users may write to.
+
+    Only folders other users can enter (``o+x``) are searched, without following symbolic
+    links or leaving the file system of each place.
+    """
+    found = []
+    for place in places:
+        try:
+            top = os.stat(place, follow_symlinks=False)
+        except OSError:
+            continue
+        if not stat.S_ISDIR(top.st_mode):
+            continue
+        found.append(place)
+        stack = [place]
+        while stack:
+            folder = stack.pop()
+            try:
+                entries = list(os.scandir(folder))
+            except OSError:
+                continue
+            for entry in entries:
+                try:
+                    info = entry.stat(follow_symlinks=False)
+                except OSError:
+                    continue
+                if not stat.S_ISDIR(info.st_mode) or info.st_dev != top.st_dev:
+                    continue
+                if info.st_mode & stat.S_IWOTH:
+                    found.append(entry.path)
+                if info.st_mode & stat.S_IXOTH:
+                    stack.append(entry.path)
+    return found
+
+
+def remove_files_of(uid: int, places=SHARED_TMP, recursive: bool = True) -> list[str]:
+    """Remove what a sandbox user ``uid`` left in shared writable places.
+
+    A sandbox user can create files only in folders other users may write to (and inside
+    its own folders), so with ``recursive`` every such folder below ``places`` is searched
+    (:func:`_open_to_others`) and each entry of ``uid`` in it is removed, a folder with all
+    it holds (``shutil.rmtree`` does not follow symbolic links). Without ``recursive`` only
+    the entries directly in ``places`` are.
+
+    Returns
+    -------
+    list of str
+        The paths removed.
+    """
     if uid == os.geteuid() or uid == 0:
         raise ValueError(f"refusing to remove the files of uid {uid}")
     removed = []
-    for place in places:
+    folders = _open_to_others(places) if recursive else list(places)
+    for place in folders:
         try:
             entries = list(os.scandir(place))
         except OSError:
@@ -287,6 +695,50 @@ def remove_files_of(uid: int, places=SHARED_TMP) -> list[str]:
                 removed.append(entry.path)
             except OSError:
                 pass
+    return removed
+
+
+#: SysV IPC kinds: /proc/sysvipc file, id column, owner and creator uid columns
+_IPC_KINDS = (("shm", 1, 7, 9), ("msg", 1, 7, 9), ("sem", 1, 4, 6))
+
+
+def remove_ipc_of(uid: int) -> list[str]:
+    """Remove the SysV shared memory segments, message queues and semaphores of ``uid``.
+
+    Needed only where kernels cannot get an IPC namespace of their own (``unshare --ipc``),
+    which takes its objects with it; a segment otherwise holds memory until reboot.
+
+    Returns
+    -------
+    list of str
+        ``"shm 3"``-style names of the objects removed.
+    """
+    if uid == os.geteuid() or uid == 0:
+        raise ValueError(f"refusing to remove the IPC objects of uid {uid}")
+    libc = ctypes.CDLL(None, use_errno=True)
+    ipc_rmid = 0
+    removed = []
+    for kind, id_col, uid_col, cuid_col in _IPC_KINDS:
+        try:
+            lines = Path(f"/proc/sysvipc/{kind}").read_text().splitlines()[1:]
+        except OSError:
+            continue
+        for line in lines:
+            cols = line.split()
+            try:
+                ident, owners = int(cols[id_col]), {int(cols[uid_col]), int(cols[cuid_col])}
+            except (IndexError, ValueError):
+                continue
+            if uid not in owners:  # the owner may hand a segment to another uid (IPC_SET)
+                continue
+            if kind == "shm":
+                rc = libc.shmctl(ident, ipc_rmid, None)
+            elif kind == "msg":
+                rc = libc.msgctl(ident, ipc_rmid, None)
+            else:
+                rc = libc.semctl(ident, 0, ipc_rmid)
+            if rc == 0:
+                removed.append(f"{kind} {ident}")
     return removed
 
 
@@ -320,23 +772,44 @@ class SandboxedKernel:
         self.uid = _POOL.acquire() if self.support.own_user else None
         self.km: KernelManager | None = None
         self.kc = None
+        self.cgroup: KernelCgroup | None = None
+        self._context = None
+        self._monitors = []
         self._kept = 0
 
     # -- life cycle -----------------------------------------------------------------------
     def _command(self) -> list[str]:
         lim = self.limits
-        cmd = []
-        if self.support.prlimit:
+        support = self.support
+        cmd, steps = [], []
+        flags = ["--net"] if support.no_network else []
+        if support.ipc_namespace:
+            flags.append("--ipc")
+        private = self.uid is not None and (support.private_tmp or support.hide_processes)
+        if private:
+            flags += ["--mount", "--propagation", "private"]
+        if flags:
+            cmd += ["unshare", *flags, "--"]
+        if self.cgroup is not None:
+            steps += [f"echo $$ > {shlex.quote(f)}" for f in self.cgroup.procs_files]
+        if private:
+            base = str(self.workdir.parent)
+            places = [p for p in PRIVATE_PLACES if os.path.isdir(p)] if support.private_tmp \
+                else []
+            steps.append(_mount_script(base, str(self.workdir), places, lim.file_mb,
+                                       support.hide_processes))
+        if steps:  # as root, in the new namespaces: the same process, exec'd on below
+            cmd += ["sh", "-c", " && ".join(steps) + ' && exec "$@"', "photolib-sandbox"]
+        if support.prlimit:
             mem = lim.memory_mb * 1024 * 1024
             cpu = int(lim.timeout * 2 + 30)
             nproc = f"--nproc={lim.nproc}" if self.uid is not None else None
             cmd += ["prlimit", f"--as={mem}", f"--cpu={cpu}", f"--fsize={lim.file_mb << 20}",
                     "--nofile=256", "--core=0"] + ([nproc] if nproc else []) + ["--"]
-        if self.support.no_network:
-            cmd += ["unshare", "--net", "--"]
         if self.uid is not None:
-            cmd += ["setpriv", f"--reuid={self.uid}", f"--regid={self.uid}", "--clear-groups",
-                    "--"]
+            cmd += ["setpriv", f"--reuid={self.uid}", f"--regid={self.uid}", "--clear-groups"]
+            cmd += ["--no-new-privs"] if support.no_new_privs else []
+            cmd += ["--"]
         return cmd + [sys.executable, "-m", "ipykernel_launcher", "-f", "{connection_file}"]
 
     def _env(self, home: Path) -> dict:
@@ -375,8 +848,7 @@ class SandboxedKernel:
         for d in (home, base / "ipc", base / "tmp"):
             d.mkdir(exist_ok=True)
         km = _Manager(transport="ipc", ip=str(base / "ipc" / "k"),
-                           connection_file=str(base / "ipc" / "kernel.json"))
-        km.sandbox_cmd = self._command()
+                      connection_file=str(base / "ipc" / "kernel.json"))
         km.write_connection_file()
         self.adopt(home)
         self.adopt(base / "ipc")
@@ -386,35 +858,91 @@ class SandboxedKernel:
             os.chmod(d, 0o700)  # only the kernel's own user (and the grader) may look inside
         if self.uid is not None:
             os.chmod(base, 0o711)
+        root = _cgroup_root() if self.uid is not None and self.support.cgroup else None
+        if root is not None and root.version:
+            self.cgroup = KernelCgroup(root, self.limits.memory_mb << 20, self.limits.nproc)
+        km.sandbox_cmd = self._command()
         km.start_kernel(cwd=str(self.workdir), env=self._env(home))
         self.km = km
         kc = km.blocking_client()
+        # a context of our own: every socket it makes refuses frames over MAX_MESSAGE_BYTES
+        # (the limit must be set before the socket connects)
+        self._context = zmq.Context()
+        self._context.setsockopt(zmq.MAXMSGSIZE, MAX_MESSAGE_BYTES)
+        kc.context = self._context
         kc.start_channels()
-        kc.wait_for_ready(timeout=ready_timeout)
+        self._monitors = []
+        for name, channel in (("iopub", kc.iopub_channel), ("shell", kc.shell_channel)):
+            monitor = channel.socket.get_monitor_socket(zmq.EVENT_DISCONNECTED)
+            self._monitors.append((channel.socket, kc._make_url(name), monitor))
         self.kc = kc
+        kc.wait_for_ready(timeout=ready_timeout)
 
     def is_alive(self) -> bool:
         return self.km is not None and self.km.is_alive()
 
+    def oom_kills(self) -> int:
+        """Processes of this kernel's tree killed by the submission's memory limit so far."""
+        return self.cgroup.oom_kills() if self.cgroup is not None else 0
+
+    def _reconnect_dropped(self) -> int:
+        """Reconnect each channel whose connection an oversized frame broke; how many."""
+        broken = 0
+        for sock, url, monitor in self._monitors:
+            try:
+                while monitor.poll(0):
+                    recv_monitor_message(monitor)
+                    broken += 1
+                    try:
+                        sock.disconnect(url)
+                    except zmq.ZMQError:
+                        pass
+                    sock.connect(url)
+            except zmq.ZMQError:
+                pass
+        return broken
+
     def shutdown(self) -> None:
         """Stop the kernel and every process it left behind; safe to call twice."""
+        for sock, _, monitor in self._monitors:
+            try:
+                sock.disable_monitor()
+                monitor.close(linger=0)
+            except Exception:  # noqa: BLE001
+                pass
+        self._monitors = []
         if self.kc is not None:
             try:
                 self.kc.stop_channels()
             except Exception:  # noqa: BLE001 - a broken channel must not stop the clean-up
                 pass
             self.kc = None
+        if self._context is not None:
+            try:
+                self._context.destroy(linger=0)
+            except Exception:  # noqa: BLE001
+                pass
+            self._context = None
         if self.km is not None:
             try:
                 self.km.shutdown_kernel(now=True)
             except Exception:  # noqa: BLE001
                 pass
             self.km = None
+        if self.cgroup is not None:
+            self.cgroup.kill()
         if self.uid is not None:
             kill_user(self.uid)
-            remove_files_of(self.uid)
+            # with a private mount namespace nothing of the kernel is left in shared places
+            # but what it left before (a crash), so the top level is enough there
+            remove_files_of(self.uid, recursive=not self.support.private_tmp)
+            if not self.support.ipc_namespace:
+                remove_ipc_of(self.uid)
             _POOL.release(self.uid)
             self.uid = None
+        if self.cgroup is not None:
+            self.cgroup.remove()
+            self.cgroup = None
 
     def __enter__(self):
         self.start()
@@ -434,7 +962,10 @@ class SandboxedKernel:
     def execute(self, code: str, timeout: float, silent: bool = False) -> ExecResult:
         """Run ``code``; collect at most ``output_bytes`` of text and the result payloads.
 
-        On timeout the kernel is interrupted (SIGINT) and given 3 s to come back.
+        On timeout the kernel is interrupted (SIGINT) and given 3 s to come back. A message
+        over :data:`MAX_MESSAGE_BYTES` breaks its connection: the channel is reconnected and
+        counted in ``oversized``; as messages sent meanwhile are lost (the final ``idle``
+        status among them), the shell's ``execute_reply`` ends the wait as well.
         """
         if not self.is_alive():
             return ExecResult("dead", "kernel is not running")
@@ -442,7 +973,7 @@ class SandboxedKernel:
         msg_id = kc.execute(code, silent=silent, store_history=False, allow_stdin=False)
         result = ExecResult("ok")
         deadline = time.monotonic() + timeout
-        interrupted_at = None
+        interrupted_at = replied_at = None
         while True:
             now = time.monotonic()
             if interrupted_at is None and now > deadline:
@@ -451,8 +982,13 @@ class SandboxedKernel:
                 result.status, result.error = "timeout", f"time limit {timeout:.0f} s"
             if interrupted_at is not None and now > interrupted_at + 3.0:
                 return result
+            result.oversized += self._reconnect_dropped()
+            if replied_at is None:
+                replied_at = self._replied(msg_id, result)
+            elif now > replied_at + (0.5 if result.oversized else 5.0):
+                return result  # the idle status was lost (a reconnect) or never came
             try:
-                msg = kc.get_iopub_msg(timeout=0.25)
+                msg = kc.get_iopub_msg(timeout=0.1 if replied_at else 0.25)
             except Exception:  # queue.Empty: poll the kernel's life
                 if not self.km.is_alive():
                     result.status, result.error = "dead", _death_reason(self.km)
@@ -460,6 +996,8 @@ class SandboxedKernel:
                 continue
             if msg["parent_header"].get("msg_id") != msg_id:
                 continue
+            if replied_at is not None:
+                replied_at = time.monotonic()  # output still coming: wait on for the idle
             kind, content = msg["msg_type"], msg["content"]
             if kind == "status" and content.get("execution_state") == "idle":
                 return result
@@ -476,6 +1014,20 @@ class SandboxedKernel:
                     result.status = "error"
                     result.error = f"{content.get('ename', '?')}: {content.get('evalue', '')}"
                 self._keep(f"{content.get('ename')}: {content.get('evalue')}\n", result)
+
+    def _replied(self, msg_id: str, result: ExecResult) -> float | None:
+        """The time the shell's reply to ``msg_id`` came (None: not yet); others are dropped."""
+        while True:
+            try:
+                reply = self.kc.get_shell_msg(timeout=0)
+            except Exception:  # noqa: BLE001 - queue.Empty, or a reply that cannot be parsed
+                return None
+            if reply.get("parent_header", {}).get("msg_id") == msg_id:
+                content = reply.get("content", {})
+                if content.get("status") == "error" and result.status == "ok":
+                    result.status = "error"
+                    result.error = f"{content.get('ename', '?')}: {content.get('evalue', '')}"
+                return time.monotonic()
 
 
 def _death_reason(km: KernelManager) -> str:

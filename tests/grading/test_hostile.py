@@ -10,6 +10,7 @@ from __future__ import annotations
 import copy
 import csv
 import os
+import stat
 import subprocess
 import sys
 from pathlib import Path
@@ -26,6 +27,81 @@ TIMEOUT = 12
 #: left behind (where kernels run as the grader's user, nothing removes it) cannot fail this one
 LEFT_BEHIND = Path(f"/tmp/photolib-hostile-left-behind-{os.getpid()}-{os.urandom(4).hex()}")
 JUDGE = ROOT / "photolib" / "grading" / "judge.py"
+#: what the leftovers notebook leaves in shared places: a SysV segment (by key) and files
+LEFT_KEY = int.from_bytes(os.urandom(3), "big") + 0x50000000
+LEFT_NAME = f"photolib-hostile-left-{os.getpid()}-{os.urandom(4).hex()}"
+LEFT_FILES = [Path("/run/lock") / LEFT_NAME, Path("/var/tmp") / LEFT_NAME / "deep" / "file",
+              Path("/dev/shm") / LEFT_NAME, Path("/tmp") / LEFT_NAME / "a" / "b"]
+
+LEFTOVERS = f"""
+import ctypes, os
+libc = ctypes.CDLL(None, use_errno=True)
+assert libc.shmget({LEFT_KEY}, 8 << 20, 0o1600) >= 0, ctypes.get_errno()  # IPC_CREAT | 0600
+for name in {[str(f) for f in LEFT_FILES]!r}:
+    try:
+        os.makedirs(os.path.dirname(name), mode=0o777, exist_ok=True)
+        open(name, "w").write("left behind")
+    except OSError:
+        pass
+"""
+
+RECON = """
+import os
+visible = [p for p in os.listdir("/proc") if p.isdigit()]
+assert not os.path.exists(f"/proc/{os.getppid()}/cmdline"), "the grader is visible"
+assert all(os.stat(f"/proc/{p}").st_uid == os.getuid() for p in visible if
+           os.path.exists(f"/proc/{p}")), "processes of other users are visible"
+status = open("/proc/self/status").read()
+assert "NoNewPrivs:\t1" in status, "no no_new_privs"
+"""
+
+#: three children of 600 MiB each (pages touched): over --memory 1536 together, not alone
+FORK_MEMORY = """
+import os, time
+kids = []
+for _ in range(3):
+    pid = os.fork()
+    if pid == 0:
+        try:
+            hog = b"x" * (600 << 20)
+            time.sleep(3)
+        finally:
+            os._exit(0)
+    kids.append(pid)
+for pid in kids:
+    os.waitpid(pid, 0)
+"""
+
+SHM_FILL = """
+for i in range(20):
+    with open(f"/dev/shm/fill-{i}", "wb") as f:
+        f.write(b"x" * (60 << 20))
+"""
+
+HUGE_MESSAGES = """
+from IPython.display import publish_display_data
+for _ in range(3):
+    publish_display_data({"text/plain": "x" * (40 << 20)})
+"""
+
+SID_STRSUB = """
+class S(str):
+    def __getitem__(self, key):
+        import time
+        time.sleep(10 ** 6)
+STUDENT_ID = S("demo-student")
+"""
+
+#: every value answer makes the encoder run student code that sleeps (5 s each, stopped)
+SLOW_ANSWERS = """
+import time
+class Slow(sp.Basic):
+    @property
+    def is_number(self):
+        time.sleep(10 ** 6)
+scale_number = R2 = R_omega = R_omega_sym = choice_inverse = Slow()
+image_scale_number = None
+"""
 
 MONKEYPATCH = """
 import numpy as np
@@ -68,12 +144,16 @@ def _variants(master, untouched, sandbox_dir: Path):
     out["network"] = with_cell(
         master, "import socket\nsocket.create_connection(('1.1.1.1', 80), timeout=3)")
     out["write-outside"] = with_cell(
-        master, f"open({str(sandbox_dir / 'pwned.txt')!r}, 'w').write('x')\n"
-                f"open({str(JUDGE)!r}, 'a').write('# pwned')")
+        master, "errors = []\n"
+                f"for path, mode in (({str(sandbox_dir / 'pwned.txt')!r}, 'w'), "
+                f"({str(JUDGE)!r}, 'a')):\n"
+                "    try:\n        open(path, mode).write('# pwned')\n"
+                "    except OSError as e:\n        errors.append(type(e).__name__)\n"
+                "raise OSError('writes failed: ' + ' '.join(errors))")
     out["monkeypatch"] = with_cell(untouched, 'STUDENT_ID = "demo-student"\n' + MONKEYPATCH
                                    + "scale_number = 1.0\nR2 = [[1, 0], [0, 2]]")
     out["forge"] = with_cell(untouched, 'STUDENT_ID = "demo-student"\n' + FORGE)
-    out["huge-output"] = with_cell(master, "print('x' * 30_000_000)\nfor i in range(3000):\n"
+    out["huge-output"] = with_cell(master, "print('x' * 10_000_000)\nfor i in range(3000):\n"
                                            "    print('spam', i)")
     out["not-json"] = "{ this is not JSON"
     out["nbformat3"] = nbformat.writes(nbformat.convert(copy.deepcopy(master), 3))
@@ -126,6 +206,16 @@ def _variants(master, untouched, sandbox_dir: Path):
     wrong = copy.deepcopy(master)
     wrong.metadata["photolib"] = {"chapter": "02-optics"}
     out["wrong-chapter"] = wrong
+    out["leftovers"] = with_cell(master, LEFTOVERS)
+    out["recon"] = with_cell(master, RECON)
+    if sandbox_support().cgroup:
+        out["fork-memory"] = with_cell(master, FORK_MEMORY)
+    out["shm-fill"] = with_cell(master, SHM_FILL)
+    out["huge-messages"] = with_cell(master, HUGE_MESSAGES)
+    strsub = copy.deepcopy(master)  # the only id: no literal, the kernel's value is read
+    strsub.cells[cell_index(strsub, "student-id")].source = SID_STRSUB
+    out["sid-strsub"] = strsub
+    out["slow-answers"] = with_cell(master, SLOW_ANSWERS)
     out["private-tmp"] = with_cell(
         master, "import os, stat, tempfile\n"
                 "assert stat.S_IMODE(os.stat('.').st_mode) == 0o700, oct(os.stat('.').st_mode)\n"
@@ -167,19 +257,42 @@ def corpus(tmp_path_factory, master, untouched):
     # the same file twice, by another path: graded once
     twice = folder / ".." / folder.name / paths["normal"].name
     # a separate grader process, as an instructor runs it
-    done = subprocess.run([sys.executable, "-m", "photolib", "grade", *map(str, paths.values()),
-                           str(twice),
-                           "--out", str(out), "--jobs", "2", "--timeout", str(TIMEOUT),
-                           "--memory", "1536", "--feedback", str(folder / "feedback"),
-                           "--no-progress"], cwd=ROOT, capture_output=True, text=True,
-                          env=dict(os.environ, PYTHONPATH=str(ROOT)), timeout=240)
+    grader = subprocess.Popen([sys.executable, "-m", "photolib", "grade",
+                               *map(str, paths.values()), str(twice),
+                               "--out", str(out), "--jobs", "2", "--timeout", str(TIMEOUT),
+                               "--memory", "1536", "--feedback", str(folder / "feedback"),
+                               "--no-progress"], cwd=ROOT, stdout=subprocess.PIPE,
+                              stderr=subprocess.PIPE, text=True,
+                              env=dict(os.environ, PYTHONPATH=str(ROOT)))
+    try:
+        _, stderr = grader.communicate(timeout=240)
+    except subprocess.TimeoutExpired:
+        grader.kill()
+        raise
+    done = subprocess.CompletedProcess(grader.args, grader.returncode, "", stderr)
     assert done.returncode == 0, done.stderr
     with out.open(newline="") as f:
         listed = list(csv.DictReader(f))
     rows = {Path(r["submission"]).name.split("-00-")[0]: r for r in listed}
     yield {"rows": rows, "outside": outside, "judge_before": judge_before, "folder": folder,
-           "paths": paths, "listed": listed, "stderr": done.stderr}
+           "paths": paths, "listed": listed, "stderr": done.stderr, "pid": grader.pid}
     LEFT_BEHIND.unlink(missing_ok=True)  # where the sandbox could not remove it
+    for path in LEFT_FILES:  # the same
+        path.unlink(missing_ok=True)
+    _remove_segment(LEFT_KEY)
+
+
+def _shm_keys() -> set[int]:
+    lines = Path("/proc/sysvipc/shm").read_text().splitlines()[1:]
+    return {int(line.split()[0]) for line in lines if line.strip()}
+
+
+def _remove_segment(key: int) -> None:
+    import ctypes
+    libc = ctypes.CDLL(None, use_errno=True)
+    ident = libc.shmget(key, 0, 0)
+    if ident >= 0:
+        libc.shmctl(ident, 0, None)  # IPC_RMID
 
 
 def row(corpus, name):
@@ -224,11 +337,27 @@ FULL, ZERO = "11", "0"
     ("sibling-files", "cell-errors", FULL, "big.bin"),
     ("wrong-chapter", "wrong-chapter", ZERO, "02-optics"),
     ("private-tmp", "ok", FULL, ""),
+    ("leftovers", "ok", FULL, ""),
+    ("recon", "ok", FULL, ""),
+    ("fork-memory", "memory-limit", FULL, "went over the memory limit of 1536 MiB"),
+    ("shm-fill", "cell-errors", FULL, "No space left on device"),
+    ("huge-messages", "ok", FULL, "larger than 16 MiB dropped unread"),
+    ("sid-strsub", "no-student-id", "4", ""),
+    ("slow-answers", "ok", ZERO, ""),
 ])
 def test_each_submission_ends_as_a_clear_row(corpus, name, status, total, detail):
-    if name == "fork-bomb" and not sandbox_support().own_user:
+    support = sandbox_support()
+    if name == "fork-bomb" and not support.own_user:
         pytest.skip("kernels run as the grader's user here: no per-user process limit, "
                     "so the fork bomb is not run")
+    if name == "fork-memory" and not support.cgroup:
+        pytest.skip("no writable cgroup here: --memory holds per process only (the "
+                    "memory-bomb row tests that limit)")
+    if name == "recon" and not (support.hide_processes and support.no_new_privs):
+        pytest.skip("/proc with hidepid=2 or setpriv --no-new-privs is not available here")
+    if name == "shm-fill" and not support.private_tmp:
+        pytest.skip("no private size-limited /dev/shm here (no mount namespace): files there "
+                    "are removed after the kernel (test_sandbox_hardening tests that)")
     r = row(corpus, name)
     if name == "network" and not sandbox_support().no_network:
         pytest.skip("unshare --net is not permitted here")
@@ -247,7 +376,9 @@ def test_writing_outside_the_working_copy_fails(corpus):
         pytest.skip("kernels run as the grader's user: the sandbox cannot stop these writes")
     r = row(corpus, "write-outside")
     assert (r["status"], r["total"]) == ("cell-errors", FULL)
-    assert "PermissionError" in r["detail"]
+    # with a private /tmp the outside folder (in the host's /tmp) is not even there
+    outside = "FileNotFoundError" if sandbox_support().private_tmp else "PermissionError"
+    assert f"writes failed: {outside} PermissionError" in r["detail"]
     assert not (corpus["outside"] / "pwned.txt").exists()
     assert JUDGE.read_text(encoding="utf-8") == corpus["judge_before"]
 
@@ -324,6 +455,46 @@ def test_gradebook_rows_are_clean(corpus):
     assert row(corpus, "wrong-chapter")["max_total"] == FULL
     assert "big.bin" in row(corpus, "normal")["detail"]
     assert "not copied" in row(corpus, "normal")["detail"]
+
+
+def test_nothing_is_left_in_shared_places(corpus):
+    """SysV segments and files anywhere in /tmp, /var/tmp, /run/lock, /dev/shm do not stay."""
+    if not sandbox_support().own_user:
+        pytest.skip("kernels run as the grader's user: their files cannot be told apart")
+    assert LEFT_KEY not in _shm_keys()
+    for path in LEFT_FILES:
+        assert not path.exists()
+        assert not Path(*path.parts[:path.parts.index(LEFT_NAME) + 1]).exists()
+
+
+def test_kernel_cgroups_are_removed(corpus):
+    from photolib.grading.sandbox import _cgroup_root
+    root = _cgroup_root()
+    if not root.version:
+        pytest.skip("no writable cgroup here: kernels get none")
+    tag = f"photolib-grading-{corpus['pid']}-"
+    for _, parent in root.parents:
+        assert not [n for n in os.listdir(parent) if n.startswith(tag)]
+
+
+def test_gradebook_and_feedback_are_private(corpus):
+    folder = corpus["folder"]
+    for path in [folder / "gradebook.csv", folder / "gradebook.csv.details.jsonl",
+                 *(folder / "feedback").iterdir()]:
+        assert stat.S_IMODE(path.stat().st_mode) == 0o600, path
+    assert stat.S_IMODE((folder / "feedback").stat().st_mode) == 0o700
+
+
+def test_the_extraction_is_bounded_by_the_time_limit(corpus):
+    """Answers whose reading hangs cost at most the rest of the time limit plus a grace."""
+    from types import SimpleNamespace
+
+    from photolib.grading.report import feedback_name
+    r = row(corpus, "slow-answers")
+    graded = SimpleNamespace(student_id=r["student_id"], submission=r["submission"])
+    text = (corpus["folder"] / "feedback" / feedback_name(graded)).read_text()
+    assert "the submission's time limit was reached" in text, text
+    assert "took longer than 5 s" in text
 
 
 def test_sandbox_files_in_tmp_are_removed(corpus):
