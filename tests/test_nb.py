@@ -276,3 +276,69 @@ def test_coverage_experiment_shows_that_filling_the_format_matters():
     # the σ at the corner is the covariance propagated to Δr′(r_corner)
     r = float(np.hypot(*nd.HALF))
     assert full["sigma_corner_um"] == pytest.approx(float(full["fit"].radial_sigma(r)) * 1e3)
+
+
+# -- chapter 05: projection centres of a real lens ----------------------------------------------
+def _measured_radius_by_roots(A1, A2, r_ideal):
+    """Independent route: the real root of r − A1 r³ − A2 r⁵ = r_ideal next to r_ideal."""
+    roots = np.roots([-A2, 0.0, -A1, 0.0, 1.0, -r_ideal])
+    real = roots[np.abs(roots.imag) < 1e-9].real
+    return float(real[np.argmin(np.abs(real - r_ideal))])
+
+
+@pytest.mark.parametrize("A1, A2, tau_deg, e", [(-5e-4, 0.0, 25.0, 40.0), (-2e-5, 4e-8, 30.0, 28.0),
+                                                 (3e-5, 0.0, 15.0, 35.0)])
+def test_projection_centres_geometry_by_an_independent_route(A1, A2, tau_deg, e):
+    lens = pl.Distortion(A1=A1, A2=A2)
+    tau, c = np.radians(tau_deg), 35.0
+    g = nd.projection_centres(lens, tau, c=c, exit_pupil=e)
+    r_ideal = c * np.tan(tau)
+    r_meas = _measured_radius_by_roots(A1, A2, r_ideal)
+    assert g["r_ideal"] == pytest.approx(r_ideal, rel=1e-12)
+    assert g["r_measured"] == pytest.approx(r_meas, abs=1e-9)
+    assert g["tau_exit"] == pytest.approx(np.arctan(r_meas / e), abs=1e-12)
+    # r′ = c·tan τ + Δr′, with Δr′ the course model's Δ at the measured point
+    assert g["delta_r"] == pytest.approx(lens.delta([r_meas, 0.0])[0], abs=1e-9)
+    assert g["r_measured"] == pytest.approx(c * np.tan(tau) + g["delta_r"], abs=1e-12)
+    assert (g["H"], g["O_M"], g["O_exit"]) == (0.0, c, e)
+
+
+def test_plot_projection_centres_draws_the_rays_at_their_angles():
+    lens = pl.Distortion(A1=-5e-4)
+    tau, c, e = np.radians(25.0), 35.0, 40.0
+    fig = nd.plot_projection_centres(lens, tau, c=c, exit_pupil=e, pupil_separation=10.0)
+    lines = {ln.get_label(): np.column_stack(ln.get_data()) for ln in fig.axes[0].lines}
+    r_meas = _measured_radius_by_roots(-5e-4, 0.0, c * np.tan(tau))
+    for name, start, angle, end in (("exit ray", -e, np.arctan(r_meas / e), r_meas),
+                                    ("ideal ray", -c, tau, c * np.tan(tau)),
+                                    ("object ray", None, tau, 0.0)):
+        (u0, v0), (u1, v1) = lines[name][0], lines[name][-1]
+        assert np.arctan2(v1 - v0, u1 - u0) == pytest.approx(angle, abs=1e-12), name
+        assert v1 == pytest.approx(end, abs=1e-9) and u1 == pytest.approx(
+            -(e + 10.0) if start is None else 0.0), name
+    # the ideal ray is parallel to the object ray (τ = τ at O_M′), the exit ray is not
+    assert not np.isclose(np.arctan(r_meas / e), tau)
+    text = " ".join(t.get_text() for t in fig.axes[0].texts)
+    assert f"Δr′ = {r_meas - c * np.tan(tau):+.2f} mm" in text
+
+
+@pytest.mark.parametrize("kwargs, match", [({"tau": np.pi / 2}, "tau"), ({"tau": -0.1}, "tau"),
+                                           ({"c": 0.0}, "c"), ({"exit_pupil": -1.0}, "exit_pupil"),
+                                           ({"pupil_separation": -1.0}, "pupil_separation")])
+def test_projection_centres_refuses_bad_input(kwargs, match):
+    args = {"tau": 0.3, **kwargs}
+    tau = args.pop("tau")
+    with pytest.raises(ValueError, match=match):
+        nd.projection_centres(pl.Distortion(A1=-2e-5), tau, **args)
+    with pytest.raises(ValueError, match="radial model only"):
+        nd.projection_centres(pl.Distortion(A1=-2e-5, B1=1e-6), 0.3)
+
+
+def test_iteration_explorer_q_close_to_one_before_the_fold_as_the_chapter_says():
+    """Chapter 05: sliders A1 = 76, A2 = −1, radius 14 give q = 0.98 at r′ = 20.8 mm, in the format."""
+    rep = nd.iteration_report(A1=76.0, A2=-1.0, radius=14.0)
+    r = float(np.hypot(*rep["measured"]))
+    assert round(rep["q"], 2) == 0.98 and round(r, 1) == 20.8 and r < np.hypot(*nd.HALF)
+    assert rep["status"]["fixed"] in (nd.CONVERGED, nd.SLOW)
+    # q is the largest eigenvalue of ∂Δ/∂x: radially ∂Δr′/∂r′ = 3A1r′² + 5A2r′⁴
+    assert rep["q"] == pytest.approx(3 * 76e-5 * r**2 + 5 * (-1e-8) * r**4, rel=1e-9)

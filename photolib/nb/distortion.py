@@ -31,6 +31,8 @@ __all__ = [
     "plot_plumb_lines",
     "plumb_line_images",
     "plumb_line_summary",
+    "projection_centres",
+    "plot_projection_centres",
 ]
 
 #: factor from slider units to mm-based units, per parameter
@@ -518,3 +520,161 @@ def coverage_experiment(d, extents=(0.35, 1.0), *, c=35.0, terms=("A1", "A2"), n
         out.append({"extent": extent, "fit": fit, "error_corner_um": err,
                     "sigma_corner_um": float(fit.radial_sigma(corner)) * 1000.0})
     return out
+
+
+# -- projection centres of a real lens / Projektionszentren (Liniensystem) ----------------------
+def projection_centres(d, tau, *, c=35.0, exit_pupil=40.0, pupil_separation=10.0) -> dict:
+    """One principal ray through a centred lens: entrance and exit angle, ideal and measured radius.
+
+    A meridional section with the image plane perpendicular to the optical axis, so that the
+    principal point H′ is the axis' piercing point. The ray from the object meets the entrance
+    pupil O at the field angle τ. The mathematical projection centre O_M′ lies on the
+    perpendicular through H′ at the camera constant c; a ray leaving it at τ meets the image
+    plane at the ideal radius ``r̄′ = c·tan τ``. The real ray leaves the exit pupil O′
+    (``exit_pupil`` e′ above the image plane) and meets it at the measured radius r′, which
+    the course model puts where ``r′ − Δr′(r′) = r̄′`` (Δ at the *measured* point,
+    :meth:`photolib.Distortion.distort`). Its exit angle follows from the triangle O′H′P′:
+
+        ``tan τ′ = r′/e′``,  ``Δr′ = r′ − c·tan τ``  (so ``r′ = c·tan τ + Δr′``).
+
+    Parameters
+    ----------
+    d : photolib.Distortion
+        Radial model (A1, A2, A3, r0); B1, B2, C1, C2 would move the point out of the section.
+    tau : float
+        Field angle τ on the object side, rad, ``0 ≤ τ < π/2``.
+    c : float
+        Camera constant, mm (> 0).
+    exit_pupil : float
+        Distance e′ of the exit pupil O′ from the image plane, mm (> 0); an assumption of
+        the drawing, the course model does not use it.
+    pupil_separation : float
+        Distance from O′ to the entrance pupil O, mm (≥ 0); only drawn.
+
+    Returns
+    -------
+    dict
+        ``tau``, ``tau_exit`` (rad); ``r_ideal`` (c·tan τ), ``r_measured``, ``delta_r``
+        (mm); ``H``, ``O_M``, ``O_exit``, ``O_entrance``: heights above the image plane on
+        the axis (mm); ``c``, ``exit_pupil``.
+
+    Raises
+    ------
+    ValueError
+        For τ outside [0, π/2), c or e′ ≤ 0, or a model with B1, B2, C1 or C2.
+
+    Examples
+    --------
+    >>> import photolib as pl
+    >>> g = projection_centres(pl.Distortion(A1=-5e-4), np.radians(25.0))
+    >>> round(g["r_ideal"], 3), round(g["r_measured"], 3), round(g["delta_r"], 3)
+    (16.321, 14.725, -1.596)
+    >>> round(float(np.degrees(g["tau_exit"])), 2)     # τ′ = atan(r′/e′) ≠ τ = 25°
+    20.21
+    """
+    from photolib._validate import as_scalar
+
+    tau = as_scalar(tau, "tau")
+    if not 0.0 <= tau < np.pi / 2:
+        raise ValueError(f"tau must be in [0, π/2) rad, got {tau!r}")
+    c = as_scalar(c, "c", positive=True)
+    e = as_scalar(exit_pupil, "exit_pupil", positive=True)
+    s = as_scalar(pupil_separation, "pupil_separation")
+    if s < 0:
+        raise ValueError(f"pupil_separation must be ≥ 0, got {s!r}")
+    other = {k: v for k, v in d.params.items() if k in ("B1", "B2", "C1", "C2") and v}
+    if other:
+        raise ValueError(f"projection_centres draws a radial model only, got {other}")
+    r_ideal = c * np.tan(tau)
+    r_measured = float(np.hypot(*d.distort([r_ideal, 0.0])))
+    return {"tau": tau, "tau_exit": float(np.arctan2(r_measured, e)), "r_ideal": float(r_ideal),
+            "r_measured": r_measured, "delta_r": r_measured - float(r_ideal), "H": 0.0,
+            "O_M": c, "O_exit": e, "O_entrance": e + s, "c": c, "exit_pupil": e}
+
+
+def _angle_arc(ax, centre, start_deg, span_deg, radius, label, colour):
+    """An arc of ``span_deg`` from ``start_deg`` about ``centre``, labelled at its middle."""
+    from matplotlib.patches import Arc
+
+    ax.add_patch(Arc(centre, 2 * radius, 2 * radius, theta1=min(start_deg, start_deg + span_deg),
+                     theta2=max(start_deg, start_deg + span_deg), color=colour, lw=1))
+    mid = np.radians(start_deg + span_deg / 2)
+    ax.text(centre[0] + 1.35 * radius * np.cos(mid), centre[1] + 1.35 * radius * np.sin(mid),
+            label, color=colour, ha="center", va="center", fontsize=9)
+
+
+def plot_projection_centres(d, tau, *, c=35.0, exit_pupil=40.0, pupil_separation=10.0):
+    """Static figure: entrance pupil O, exit pupil O′, mathematical centre O_M′, τ, τ′ and Δr′.
+
+    The optical axis runs left to right (object side left), the image plane is the vertical
+    line at the right; heights are radii in the image plane, mm, drawn to scale. The object
+    ray (label ``"object ray"``) reaches O at τ; the real ray (``"exit ray"``) goes from O′
+    to the measured point r′; the ideal ray (``"ideal ray"``) from O_M′ at τ to ``c·tan τ``.
+    Between the pupils the ray's path inside the lens is not modelled (dotted). The geometry
+    is :func:`projection_centres`, with the same parameters.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> import photolib as pl
+    >>> fig = plot_projection_centres(pl.Distortion(A1=-5e-4), np.radians(25.0))
+    >>> [ln.get_label() for ln in fig.axes[0].lines if not ln.get_label().startswith("_")]
+    ['object ray', 'exit ray', 'ideal ray']
+    """
+    import matplotlib.pyplot as plt
+
+    g = projection_centres(d, tau, c=c, exit_pupil=exit_pupil, pupil_separation=pupil_separation)
+    # plot coordinates: u = −(height above the image plane), v = radius in the image plane
+    uO, uE, uM = -g["O_entrance"], -g["O_exit"], -g["O_M"]
+    t, t2 = g["tau"], g["tau_exit"]
+    fig, ax = plt.subplots(figsize=(7.4, 3.4))
+    top = max(g["r_ideal"], g["r_measured"])
+    ax.axhline(0.0, color="0.6", lw=0.8, ls="-.")
+    ax.plot([0, 0], [-0.35 * top, 1.25 * top], color="k", lw=2)
+    # the lens (schematic) and the aperture stop between the pupils
+    lo, hi = min(uO, uE) - 2.0, max(uO, uE) + 2.0
+    ax.add_patch(plt.Rectangle((lo, -0.55 * top), hi - lo, 1.1 * top, color="#dbe9f6", zorder=0))
+    us = (uO + uE) / 2
+    for sign in (1, -1):
+        ax.plot([us, us], [sign * 0.18 * top, sign * 0.5 * top], color="0.25", lw=3)
+    ax.text(us, -0.62 * top, "aperture stop / Blende", ha="center", va="top", fontsize=8)
+    # rays
+    reach = 0.5 * top / np.tan(max(t, 0.3))          # horizontal extent of the object ray
+    ax.plot([uO - reach, uO], [-reach * np.tan(t), 0.0], color="#1f77b4", label="object ray")
+    ax.plot([uO, uE], [0.0, 0.0], color="#1f77b4", ls=":", lw=1.5)
+    ax.plot([uE, 0.0], [0.0, g["r_measured"]], color="#1f77b4", label="exit ray")
+    ax.plot([uM, 0.0], [0.0, g["r_ideal"]], color="#d62728", ls="--", label="ideal ray")
+    # points
+    for u, name, dv in ((uO, "O", -1), (uE, "O′", -1), (uM, "O$_M$′", 1), (0.0, "H′", -1)):
+        ax.plot(u, 0.0, "o", color="k", ms=4)
+        ax.text(u + (0.8 if u == 0.0 else 0.0), dv * 0.08 * top, name, ha="center",
+                va="bottom" if dv > 0 else "top", fontsize=9)
+    _angle_arc(ax, (uO, 0.0), 180.0, np.degrees(t), 0.45 * top, "τ", "#1f77b4")
+    _angle_arc(ax, (uE, 0.0), 0.0, np.degrees(t2), 0.9 * top, "τ′", "#1f77b4")
+    _angle_arc(ax, (uM, 0.0), 0.0, np.degrees(t), 0.25 * top, "τ", "#d62728")
+    # distances of O_M′ (c) and O′ (e′) from the image plane
+    for u, v, name in ((uM, -0.22 * top, "c"), (uE, -0.4 * top, "e′")):
+        ax.annotate("", xy=(u, v), xytext=(0.0, v),
+                    arrowprops={"arrowstyle": "<->", "color": "0.4", "lw": 0.8})
+        ax.text(u / 2, v, name, ha="center", va="bottom", fontsize=8, color="0.3")
+    # Δr′ on the image plane, the two radii labelled to the right
+    arrow = {"arrowstyle": "->", "color": "#2ca02c", "lw": 1.5, "shrinkA": 0, "shrinkB": 0}
+    ax.annotate("", xy=(1.0, g["r_measured"]), xytext=(1.0, g["r_ideal"]), arrowprops=arrow)
+    ax.text(2.0, (g["r_ideal"] + g["r_measured"]) / 2, f"Δr′ = {g['delta_r']:+.2f} mm",
+            color="#2ca02c", va="center", fontsize=9)
+    upper = g["r_ideal"] >= g["r_measured"]
+    for r, name, colour, side in ((g["r_ideal"], "c·tan τ", "#d62728", 1 if upper else -1),
+                                  (g["r_measured"], "r′", "#1f77b4", -1 if upper else 1)):
+        ax.annotate(f"{name} = {r:.2f} mm", xy=(0.0, r), xytext=(2.0, r + side * 0.25 * top),
+                    color=colour, fontsize=8, va="center",
+                    arrowprops={"arrowstyle": "-", "color": colour, "lw": 0.6})
+    ax.text(1.0, -0.5 * top, "image plane /\nBildebene", fontsize=8, va="center")
+    ax.set(aspect="equal", xlabel="distance from the image plane [mm]", ylabel="radius r′ [mm]",
+           xlim=(uO - reach - 2.0, 24.0), ylim=(-0.75 * top, 1.3 * top))
+    ax.set_title(f"c = {c:g} mm, exit pupil e′ = {exit_pupil:g} mm, τ = {np.degrees(t):.1f}°, "
+                 f"τ′ = {np.degrees(t2):.1f}°", fontsize=9)
+    fig.tight_layout()
+    return finished(fig)
