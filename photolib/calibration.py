@@ -22,8 +22,10 @@ projective map of the image plane, so every parameter whose effect is projective
   datum chosen by the user, not a result — a fit with another r0 is the same fit scaled by
   ``1 − K0`` (and belongs to the camera constant ``c·(1 − K0)`` to first order);
 * affinity and shear C1, C2 (affine maps keep lines straight);
-* the principal point only weakly: it is held fixed here, and an error in it is largely
-  absorbed by the tangential terms B1, B2 (part of whose effect is itself projective).
+* the principal point only weakly: it is held fixed here, and an error in it is partly
+  absorbed by the tangential terms B1, B2 (part of whose effect is itself projective):
+  exactly, to first order, for the A1 term (a shift (x'0, y'0) turns it into the tangential
+  pattern B1 = −A1·x'0, B2 = −A1·y'0), not for A2 and A3.
 """
 
 from __future__ import annotations
