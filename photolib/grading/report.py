@@ -149,14 +149,21 @@ class Gradebook:
                                  f"{self.columns}; use --force (which starts it afresh) "
                                  "or another --out")
             if header == self.columns:
-                for row in rows:
-                    if row:
-                        self._rows[self.key(row[0].removeprefix("'"))] = row
+                rows = [row for row in rows if row]
+                records = []
                 if self.details_path.exists():
                     for line in self.details_path.read_text(encoding="utf-8").splitlines():
                         if line.strip():
-                            record = json.loads(line)
-                            self.done[record["submission"]] = record
+                            records.append(json.loads(line))
+                # rows and records are written together, in the same order: key each row by
+                # its record's resolved path, not by the CSV cell, which csv_cell may have
+                # shortened or neutralised (a leading ', control characters, > 1000 chars)
+                if len(records) == len(rows):
+                    keys = [record["submission"] for record in records]
+                else:
+                    keys = [self.key(row[0].removeprefix("'")) for row in rows]
+                self._rows = dict(zip(keys, rows))
+                self.done = {record["submission"]: record for record in records}
                 return
         self._rewrite()
 

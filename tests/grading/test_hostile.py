@@ -10,6 +10,7 @@ from __future__ import annotations
 import copy
 import csv
 import os
+import shutil
 import stat
 import subprocess
 import sys
@@ -72,9 +73,12 @@ for pid in kids:
     os.waitpid(pid, 0)
 """
 
-SHM_FILL = """
-for i in range(20):
-    with open(f"/dev/shm/fill-{i}", "wb") as f:
+#: unique per run, and removed by the corpus fixture where the kernel wrote the host's /dev/shm
+SHM_FILES = [Path("/dev/shm") / f"photolib-hostile-fill-{os.getpid()}-{os.urandom(4).hex()}-{i}"
+             for i in range(20)]
+SHM_FILL = f"""
+for name in {[str(f) for f in SHM_FILES]!r}:
+    with open(name, "wb") as f:
         f.write(b"x" * (60 << 20))
 """
 
@@ -277,8 +281,10 @@ def corpus(tmp_path_factory, master, untouched):
     yield {"rows": rows, "outside": outside, "judge_before": judge_before, "folder": folder,
            "paths": paths, "listed": listed, "stderr": done.stderr, "pid": grader.pid}
     LEFT_BEHIND.unlink(missing_ok=True)  # where the sandbox could not remove it
-    for path in LEFT_FILES:  # the same
+    for path in LEFT_FILES + SHM_FILES:  # the same (1.2 GB of RAM in /dev/shm)
         path.unlink(missing_ok=True)
+    for top in (Path("/tmp") / LEFT_NAME, Path("/var/tmp") / LEFT_NAME):
+        shutil.rmtree(top, ignore_errors=True)
     _remove_segment(LEFT_KEY)
 
 

@@ -282,3 +282,54 @@ def test_sandbox_support_says_what_is_missing():
         assert ("no-new-privs" in notes) != s.no_new_privs
     else:
         assert not (s.private_tmp or s.hide_processes or s.cgroup or s.no_new_privs)
+
+
+# -- reading a submission without running it ---------------------------------------------------
+
+_STATIC_READ = """
+import resource, sys
+from nbformat.v4 import new_code_cell, new_notebook
+from photolib.grading.submission import static_student_id
+big = "x = [" + "0," * 3_000_000 + "]"          # 6 MB of list literal before the id
+nb = new_notebook(cells=[new_code_cell(big), new_code_cell("STUDENT_ID = 's1234567'")])
+resource.setrlimit(resource.RLIMIT_AS, (1 << 30, 1 << 30))
+print(static_student_id(nb))
+"""
+
+
+def test_a_huge_cell_is_not_parsed_whole_in_the_grader():
+    # ast.parse of that cell needs ~3 GB: the grader (root, no limit) read it before any sandbox
+    proc = subprocess.run([sys.executable, "-c", _STATIC_READ], capture_output=True, text=True,
+                          timeout=120, cwd=ROOT)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert proc.stdout.strip() == "s1234567"
+
+
+def test_a_regraded_odd_path_replaces_its_row(tmp_path):
+    # the CSV cell of such a path is neutralised or shortened, so it cannot be the row's key
+    from photolib.grading.batch import Graded
+    from photolib.grading.judge import Judgement
+    from photolib.grading.report import Gradebook
+
+    folder = tmp_path / "subs"
+    folder.mkdir()
+    odd = [folder / "'quote.ipynb", folder / "new\nline.ipynb", folder / ("x" * 200 + ".ipynb"),
+           folder / "=sum(1).ipynb"]
+
+    def graded(path, total):
+        return Graded(str(path), "s1", "ok", "", "00-start",
+                      [Judgement("demo.image-scale", "correct", float(total), 2.0, "")])
+
+    out = tmp_path / "gb.csv"
+    book = Gradebook(out, ["demo.image-scale"])
+    for p in odd:
+        book.add(graded(p, 1))
+    book = Gradebook(out, ["demo.image-scale"])      # a later run resumes the gradebook
+    assert all(book.is_done(p) for p in odd)
+    for p in odd:
+        book.add(graded(p, 2))                       # regraded (as with --force)
+    import csv
+    with out.open(newline="", encoding="utf-8") as f:
+        rows = list(csv.reader(f))[1:]
+    assert len(rows) == len(odd), rows
+    assert {row[4] for row in rows} == {"2"}
