@@ -4,7 +4,8 @@ The course promises formulas "right to the last sign". :func:`equivalent` compar
 expressions (or matrices of the same shape) and returns a :class:`Verdict`:
 
 * ``"equal"`` — proved by a cheap exact route (structural equality, ``cancel``/``expand``/
-  ``trigsimp`` run in a daemon worker thread under a time budget; never an unbounded
+  ``trigsimp`` run in a worker thread under a time budget and cancelled when it runs
+  out, so nothing goes on computing after the call returns; never an unbounded
   ``simplify``), or the difference vanished at every random sample point evaluated with
   mpmath at 50 significant digits (a probabilistic proof: a non-zero analytic difference
   vanishes at a random point with probability zero).
@@ -38,6 +39,7 @@ sqrt(x**2 + y**2)
 from __future__ import annotations
 
 import ast
+import ctypes
 import random
 import re
 import threading
@@ -55,6 +57,7 @@ KINDS = ("equal", "not-equal", "equal-under-condition", "undecided")
 
 _DPS = 50            # working precision of the sampling, decimal digits
 _REL_TOL = 1e-30     # relative tolerance at 50 digits
+_CANCEL_GRACE = 5.0  # seconds a cancelled route may take to stop (a long C call)
 
 
 class UnsafeExpressionError(ValueError):
@@ -118,20 +121,49 @@ def _as_matrix(e) -> sp.Matrix:
     return sp.Matrix([[sp.sympify(e)]])
 
 
+class _Cancelled(BaseException):
+    """Raised inside a worker thread whose time budget ran out (a BaseException, so that
+    SymPy's own ``except Exception`` clauses do not swallow it)."""
+
+
+def _cancel(thread: threading.Thread) -> None:
+    """Raise :class:`_Cancelled` in ``thread`` at its next bytecode.
+
+    A timed-out route must not go on computing in the background: in a notebook it would
+    take the GIL from every later cell (a ``trigsimp`` of chapter 06 slowed the next
+    figure from 0.1 s to 1.1 s), and since the budget clock counts this process's CPU time
+    it would eat the budget of later verdicts, so that a verdict depended on the calls made
+    before it. SymPy is pure Python, so the exception arrives within a bytecode or a short
+    C call.
+    """
+    ctypes.pythonapi.PyThreadState_SetAsyncExc(ctypes.c_ulong(thread.ident),
+                                               ctypes.py_object(_Cancelled))
+
+
 def _run_bounded(func, timeout: float):
-    """Run ``func()`` in a daemon thread; return ``(done, result)`` within ``timeout`` s."""
+    """Run ``func()`` in a worker thread; return ``(done, result)`` within ``timeout`` s.
+
+    A worker still running at the deadline is cancelled (:func:`_cancel`) and joined, so no
+    route outlives the call that started it.
+    """
     box: dict = {}
 
     def target():
         try:
             box["result"] = func()
+        except _Cancelled:
+            box["cancelled"] = True
         except Exception as exc:  # noqa: BLE001 - any failure means "route failed"
             box["error"] = exc
 
-    t = threading.Thread(target=target, daemon=True)
+    t = threading.Thread(target=target, daemon=True, name="photolib.symcheck route")
     t.start()
     t.join(max(timeout, 0.0))
-    if t.is_alive() or "error" in box:
+    if t.is_alive():
+        _cancel(t)
+        t.join(_CANCEL_GRACE)
+        return False, None
+    if "error" in box or "cancelled" in box:
         return False, None
     return True, box.get("result")
 

@@ -1,5 +1,6 @@
 """photolib.symcheck: every verdict kind, the time budget and the safe parser."""
 
+import threading
 import time
 
 import mpmath
@@ -55,6 +56,48 @@ def test_undecided_undefined_function_and_budget():
     v = equivalent(big_a, big_b, time_budget=0.05, samples=50)
     assert v.kind == "undecided"
     assert time.process_time() - t < 5.0
+
+
+def _new_threads(before):
+    return [t for t in threading.enumerate() if t not in before and t.is_alive()]
+
+
+def test_route_cut_by_the_budget_stops_computing():
+    # chapter 06 compares Luhmann's 4.18 with the SymPy Jacobian: trigsimp outlives its budget
+    # and must not go on in the background, where it took the GIL from the next cells of the
+    # notebook and the CPU-time budget from the next verdicts
+    from photolib.derive import collinearity as dc
+
+    L, J = dc.luhmann_418(), dc.jacobian()
+    kx, ky, N, zq = dc.luhmann_symbols()
+    k = dc.k_vector()
+    given = {kx: k[0], ky: k[1], N: k[2], zq: -dc.c}
+    luhmann = sp.Matrix([[L[n][i].subs(given) for n in dc.PARAMETERS] for i in range(2)])
+    derived = sp.Matrix([[J[n][i] for n in dc.PARAMETERS] for i in range(2)])
+    before = set(threading.enumerate())
+    v = equivalent(luhmann, derived, samples=6)
+    assert v.kind == "equal"
+    assert _new_threads(before) == []
+    # and the cut-off route leaves the next verdict its whole budget
+    t = time.process_time()
+    assert equivalent(sp.sin(x) ** 2, 1 - sp.cos(x) ** 2).kind == "equal"
+    assert time.process_time() - t < 1.0
+
+
+def test_cancelled_route_reports_not_done():
+    from photolib import symcheck
+
+    def spin():
+        while True:
+            sum(range(1000))
+
+    before = set(threading.enumerate())
+    t = time.monotonic()
+    assert symcheck._run_bounded(spin, 0.05) == (False, None)
+    assert time.monotonic() - t < 2.0
+    assert _new_threads(before) == []
+    assert symcheck._run_bounded(lambda: 42, 5.0) == (True, 42)
+    assert symcheck._run_bounded(lambda: 1 / 0, 5.0) == (False, None)
 
 
 def test_bad_arguments():
