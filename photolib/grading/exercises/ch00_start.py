@@ -102,7 +102,7 @@ def _scale_cases(rng, p):
 
 scale_function = Exercise(
     id="demo.scale-function", points=2, title="Image scale number as a function",
-    kind="function", answer="image_scale_number", rtol=1e-9, atol=1e-9,
+    kind="function", answer="image_scale_number", rtol=1e-6, atol=1e-9,
     statement="Write image_scale_number(c_mm, h_m) returning m_b for a camera constant in mm "
               "and a distance in m. It is tested on cameras you do not see.",
     parameters=lambda rng: {}, cases=_scale_cases,

@@ -219,7 +219,7 @@ gsd_function = Exercise(
     statement="For a camera with {pixel_um} µm pixels and c = {c_mm} mm write gsd_of_height(H) "
               "that returns the ground sampling distance in **cm** of a vertical image taken H m "
               "above flat ground. It is tested on heights you do not see.",
-    parameters=_camera, reference=_gsd_function(), cases=_height_cases, rtol=1e-9, atol=0.0,
+    parameters=_camera, reference=_gsd_function(), cases=_height_cases, rtol=1e-6, atol=0.0,
     mistakes=(
         Mistake("units-cm", "this is the GSD in m; gsd_of_height must return cm",
                 _gsd_function(out=1.0)),

@@ -259,7 +259,7 @@ ground_point = Exercise(
               "(x, y) in mm meets the horizontal plane at height Z (m). It is tested on image "
               "points and heights you do not see.",
     parameters=_ground_params, reference=_ground_function(library=True), cases=_ground_cases,
-    rtol=0.0, atol=1e-6,
+    rtol=1e-6, atol=1e-6,
     mistakes=(
         Mistake("transposed", "the ray in the object frame is R·x*, not Rᵀ·x*",
                 _ground_function(transpose=True)),

@@ -122,7 +122,7 @@ helmert_angle = Exercise(
     statement="A Helmert transformation X = a0 + a1·x − b1·y, Y = b0 + b1·x + a1·y has "
               "a1 = {a1} and b1 = {b1} (a1 = m·cos α, b1 = m·sin α). Give its rotation angle α "
               "(counter-clockwise) in gon, in [0, 400) gon (400 gon = 360°).",
-    parameters=_angle_params, reference=_angle_gon, rtol=0.0, atol=1e-6,
+    parameters=_angle_params, reference=_angle_gon, rtol=1e-6, atol=1e-6,
     mistakes=(
         Mistake("degrees", "this is the angle in degrees; the task asks for gon "
                            "(400 gon = 360°)", lambda p: _angle_gon(p) * 0.9),
@@ -429,7 +429,7 @@ bilinear_function = Exercise(
               "(also p.a0, …, p.b3). Write bilinear(x, y) returning the NumPy array [X, Y]. It "
               "is tested on sheet points you do not see.",
     parameters=_bilinear_params, reference=_bilinear_function, cases=_bilinear_cases,
-    rtol=1e-12, atol=1e-6,
+    rtol=1e-6, atol=1e-6,
     mistakes=(
         Mistake("erratum", "this is the bilinear formula as printed in the Polish notes "
                            "(pl-notes:bilinear, see the errata chapter): in Y one coefficient "

@@ -52,7 +52,7 @@ height = Exercise(
               "base B = {B_m} m. A point has the x-parallax px' = x'1 − x'2 = {px_mm} mm. "
               "Give its Z coordinate in m in the course's normal-case frame (camera 1 at the "
               "origin, camera 2 at (B, 0, 0), both looking down −Z).",
-    parameters=_height_params, reference=_height, rtol=1e-9, atol=1e-9,
+    parameters=_height_params, reference=_height, rtol=1e-6, atol=1e-9,
     mistakes=(
         Mistake("sign-c", hints.MESSAGES["sign-c"] + ": Z = −c·B/px' is negative, the point "
                 "lies below the cameras (the distance h = −Z is positive)",
@@ -154,7 +154,7 @@ intersection = Exercise(
               "returns the object point (X, Y, Z) in m (NumPy array of shape (3,)) from the "
               "image coordinates (mm) of both images. It is tested on points you do not see.",
     parameters=_intersection_params, reference=_intersection_function(),
-    cases=_intersection_cases, rtol=1e-9, atol=1e-9,
+    cases=_intersection_cases, rtol=1e-6, atol=1e-9,
     mistakes=(
         Mistake("principal-point", "the image coordinates must be reduced to the principal "
                                    "point (x' − x'0, y' − y'0) before X = B·x'/px', "
