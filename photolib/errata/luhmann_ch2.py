@@ -11,7 +11,7 @@ import mpmath
 import sympy as sp
 
 from photolib.derive import adjustment, conic, plane
-from photolib.errata._record import Evidence, VersionSpec, figure, formula
+from photolib.errata._record import Evidence, VersionSpec, figure, formula, numbers_evidence
 
 SRC = "002_b1d9e6507973e20d.txt (Luhmann errata list, 11.7.2017)"
 x, y, X, Y = plane.x, plane.y, plane.X, plane.Y
@@ -106,6 +106,71 @@ def _old286() -> Evidence:
     return Evidence("wrong", f"roots {roots}, general {general.kind}, at the roots {at_root}")
 
 
+V2136 = ("right-under-condition: the plane's height at the origin is z1 (a1·x'1 + a2·y'1 = 0), "
+         "e.g. point 1 at the origin (x'1 = y'1 = 0, coordinates reduced to P1) or a "
+         "horizontal plane; old and corrected prints are identical")
+
+
+def _m2136():
+    """The printed matrix of 2.136 times (z1, z2, z3) (old and corrected alike)."""
+    x2, y2, x3, y3 = conic.x2, conic.y2, conic.x3, conic.y3
+    det = x2 * y3 - x3 * y2
+    M = sp.Matrix([[det, 0, 0], [y2 - y3, y3, -y2], [x3 - x2, -x3, x2]])
+    return M * sp.Matrix([conic.z1, conic.z2, conic.z3]) / det
+
+
+def _plane_rows_2136():
+    """Numeric rows (printed vs solved a0, a1, a2) for four configurations of P1, P2, P3."""
+    import numpy as np
+    cases = (("P1 at the origin, tilted plane", ((0, 0, 2), (3, -1, 9), (-2, 4, -6))),
+             ("horizontal plane z = 5, P1 = (1, 2)", ((1, 2, 5), (3, 0, 5), (0, 4, 5))),
+             ("z = 1 + 2x' − y', P1 = (1, 2) on its level line through the origin",
+              ((1, 2, 1), (3, -1, 8), (-2, 4, -7))),
+             ("tilted plane, P1 = (1, 2) elsewhere", ((1, 2, 3), (3, -1, 2), (-2, 4, 7))))
+    subs_keys = (conic.x1, conic.y1, conic.z1, conic.x2, conic.y2, conic.z2, conic.x3,
+                 conic.y3, conic.z3)
+    rows = []
+    for name, pts in cases:
+        vals = dict(zip(subs_keys, [sp.Integer(v) for p in pts for v in p]))
+        printed = [float(e) for e in _m2136().subs(vals)]
+        solved = np.linalg.solve(np.array([[1.0, p[0], p[1]] for p in pts]),
+                                 np.array([float(p[2]) for p in pts]))
+        for k in range(3):
+            rows.append((f"{name}: a{k}", printed[k], float(solved[k]), 1e-12))
+    return rows
+
+
+def _ev2136() -> Evidence:
+    """2.136: printed − derived is (z1 − a0)·w, so equal exactly when a0 = z1."""
+    from photolib.symcheck import equivalent
+    printed, derived = _m2136(), conic.plane_through_points()
+    d = conic.x2 * conic.y3 - conic.x3 * conic.y2
+    w = sp.Matrix([d, conic.y2 - conic.y3, conic.x3 - conic.x2]) / d
+    factor = sp.simplify(printed - derived - (conic.z1 - derived[0]) * w) == sp.zeros(3, 1)
+    at_origin = equivalent(printed, derived, assumptions={conic.x1: 0, conic.y1: 0},
+                           time_budget=3.0)
+    # (0, 0, z1) on the plane: a0 = z1, solved for z1 (linear)
+    z1_on = sp.solve(sp.Eq(derived[0], conic.z1), conic.z1)
+    level = equivalent(printed, derived, assumptions={conic.z1: z1_on[0]}, time_budget=3.0) \
+        if len(z1_on) == 1 else None
+    general = equivalent(printed, derived, time_budget=3.0)
+    ev = numbers_evidence(_plane_rows_2136())
+    wrong_rows = [r for r in ev.table if not r[4]]
+    if (factor and at_origin.kind == "equal-under-condition" and level is not None
+            and level.kind == "equal-under-condition" and general.kind == "not-equal"
+            and wrong_rows and all(r[0].startswith("tilted plane, P1 = (1, 2) elsewhere")
+                                   for r in wrong_rows)):
+        return Evidence(V2136, "printed − derived = (z1 − a0)·(1, (y'2 − y'3)/d, "
+                        "(x'3 − x'2)/d) (SymPy simplify): zero iff a0 = z1 ⇔ a1·x'1 + a2·y'1 = 0; "
+                        "equal with x'1 = y'1 = 0 and with z1 := the plane's height at the "
+                        "origin, differs in general (counterexample); the table: only the "
+                        "last configuration differs",
+                        general.counterexample, general.values, table=ev.table)
+    return Evidence("wrong", f"factorisation {factor}, P1 at origin {at_origin.kind}, "
+                    f"level line {None if level is None else level.kind}, general {general.kind}",
+                    general.counterexample, general.values, table=ev.table)
+
+
 def records():
     r = []
     r.append(formula(
@@ -171,28 +236,24 @@ def records():
                "so a circle through the origin has F = 0 and cannot be scaled to F = 1"),
     ))
     # 2.136 — old and corrected printed identically
-    def _m2136():
-        x2, y2, x3, y3 = conic.x2, conic.y2, conic.x3, conic.y3
-        det = x2 * y3 - x3 * y2
-        M = sp.Matrix([[det, 0, 0], [y2 - y3, y3, -y2], [x3 - x2, -x3, x2]])
-        return M * sp.Matrix([conic.z1, conic.z2, conic.z3]) / det
-    cond = {conic.x1: 0, conic.y1: 0}
-    text = ("point 1 at the origin (x'1 = y'1 = 0, coordinates reduced to P1); "
-            "old and corrected prints are identical")
     r.append(formula(
         "luhmann:2.136", SRC + ", p. 76, formula 2.136", "plane through three points",
-        {"old": VersionSpec("right-under-condition: " + text, expr=_m2136, condition=cond,
-                            condition_text=text, claim="wrong"),
-         "corrected": VersionSpec("right-under-condition: " + text, expr=_m2136,
-                                  condition=cond, condition_text=text, claim="right")},
+        {"old": VersionSpec(V2136, expr=_m2136, check=_ev2136, claim="wrong"),
+         "corrected": VersionSpec(V2136, expr=_m2136, check=_ev2136, claim="right")},
         derivation=conic.plane_through_points,
         steps=("plane z = a0 + a1x' + a2y' through P1, P2, P3: three linear equations",
                "solved by SymPy for a0, a1, a2 in general position",
-               "the printed matrix has no x'1, y'1: it equals the solution only for "
-               "x'1 = y'1 = 0"),
+               "the printed matrix has no x'1, y'1: row 1 gives a0 = z1, and rows 2, 3 make the "
+               "printed plane pass through P2, P3 and (0, 0, z1)",
+               "so printed − derived = (z1 − a0)·(1, (y'2 − y'3)/d, (x'3 − x'2)/d), "
+               "d = x'2y'3 − x'3y'2 (SymPy): zero exactly when a0 = z1, i.e. "
+               "a1·x'1 + a2·y'1 = 0"),
         note="The transcription shows the 'alte Fassung' and 'richtig' character for "
-             "character identical: the erratum lists no visible change. Both are right only "
-             "with P1 as origin.",
+             "character identical: the erratum lists no visible change. Both are right "
+             "exactly when the plane's height at the origin is z1 (a1·x'1 + a2·y'1 = 0): with "
+             "P1 as origin (the intended reduction), but also for a horizontal plane or P1 on "
+             "the plane's level line through the origin; with P1 elsewhere they give the "
+             "plane through (0, 0, z1), P2, P3.",
     ))
     r.append(Record_t())
     r.append(figure("luhmann:p48-T11", SRC + ", p. 48, text", "rotation matrix inserted into "

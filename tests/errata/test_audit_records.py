@@ -178,3 +178,33 @@ def test_profile_at_45_degrees():
     a = math.radians(45)
     assert math.isclose(10 * math.cos(a), 10 * math.sin(a))
     assert "45°, 225°" in rec.evaluate("printed").detail
+
+
+def _printed_2136(P):
+    """Luhmann 2.136 as printed (no x'1, y'1 in it), evaluated with NumPy."""
+    (_, _, z1), (x2, y2, z2), (x3, y3, z3) = P
+    det = x2 * y3 - x3 * y2
+    M = np.array([[det, 0, 0], [y2 - y3, y3, -y2], [x3 - x2, -x3, x2]]) / det
+    return M @ np.array([z1, z2, z3])
+
+
+def test_2136_condition_is_the_height_at_the_origin_not_only_p1_at_the_origin():
+    """The print is right exactly when a0 = z1 (a1·x'1 + a2·y'1 = 0), not only for P1 = 0."""
+    rng = np.random.default_rng(2136)
+    for _ in range(20):
+        a = rng.uniform(-2, 2, 3)                               # z = a0 + a1x' + a2y'
+        xy = rng.uniform(-10, 10, (3, 2))
+        on_level = rng.uniform(-5, 5) * np.array([-a[2], a[1]])  # a1·x + a2·y = 0
+        for p1, right in ((xy[0], False), (on_level, True), (np.zeros(2), True)):
+            pts = np.vstack([p1, xy[1:]])
+            P = np.column_stack([pts, a[0] + pts @ a[1:]])
+            assert np.allclose(_printed_2136(P), a, atol=1e-9) == right
+        flat = np.column_stack([xy, np.full(3, a[0])])            # horizontal: any P1
+        assert np.allclose(_printed_2136(flat), [a[0], 0, 0], atol=1e-9)
+    rec = errata.get("luhmann:2.136")
+    for version in ("old", "corrected"):
+        verdict = rec.verdicts[version]
+        assert verdict.startswith("right-under-condition: the plane's height at the origin "
+                                  "is z1 (a1·x'1 + a2·y'1 = 0)"), verdict
+        assert "horizontal plane" in verdict
+        assert [r[4] for r in rec.evaluate(version).table] == [True] * 9 + [False] * 3
