@@ -43,20 +43,39 @@ EX37_NEW = ("not-checkable: empirical claim about stereoscopic parallax measurem
             "printed in the errata list")
 
 
-def _ev37(old: bool) -> Evidence:
+def relation_37(old: bool):
+    """The printed relation s_px' = f(s_x') of example 3.7: √2·s_x' (old) or s_x'/√2 (corrected)."""
+    return stereo.s_x * sp.sqrt(2) if old else stereo.s_x / sp.sqrt(2)
+
+
+def _ev37(old: bool, printed=None) -> Evidence:
+    """Example 3.7: the printed relation compared with error propagation, then the numbers.
+
+    ``printed`` defaults to the transcription :func:`relation_37`; the verdict follows from
+    the comparison (the old relation must equal σ(px') = √2·σ(x'), the corrected must not).
+    """
+    from photolib.symcheck import equivalent
+    printed = relation_37(old) if printed is None else printed
+    v = equivalent(printed, stereo.parallax_sigma_independent(), time_budget=3.0)
     res = example_37("sqrt2" if old else "inv")
     nums = (f"s_x' = {res['s_x_um']:.3f} µm, σ_XY = {res['s_XY_mm']:.3f} mm, "
             f"σ_Z = {res['s_Z_mm']:.3f} mm")
     if old:
+        if v.kind != "equal":
+            return Evidence("wrong", f"s_px' = {printed} differs from σ(px') = √2·σ(x') of "
+                            f"independent readings ({v.method})", v.counterexample, v.values)
         return Evidence("right-under-condition: x'1 and x'2 measured independently with "
                         "equal σ (law of error propagation of px' = x'1 − x'2)",
-                        "σ(px') = √2·σ(x') by propagation; " + nums,
-                        table=[("s_Z_mm", None, res["s_Z_mm"], None, True)])
+                        f"σ(px') = √2·σ(x') by propagation, equal to the print ({v.method}); "
+                        + nums, table=[("s_Z_mm", None, res["s_Z_mm"], None, True)])
+    if v.kind == "equal":
+        return Evidence("right", f"s_px' = {printed} equals σ(px') = √2·σ(x') ({v.method})")
     indep = example_37("sqrt2")
     return Evidence(EX37_NEW, "s_px' = s_x'/√2 is an assumption about how a stereoscopic "
                     "observer measures, not a consequence of px' = x'1 − x'2; for independent "
-                    f"readings σ(px') = √2·σ(x') (σ_XY = {indep['s_XY_mm']:.3f} mm). With the "
-                    "assumption: " + nums,
+                    f"readings σ(px') = √2·σ(x') (σ_XY = {indep['s_XY_mm']:.3f} mm; the print "
+                    f"differs, {v.method}). With the assumption: " + nums,
+                    v.counterexample, v.values,
                     table=[("s_Z_mm", None, res["s_Z_mm"], None, True),
                            ("s_XY_mm", None, res["s_XY_mm"], None, True)])
 
@@ -86,10 +105,10 @@ def records():
         specs={"old": VersionSpec("right-under-condition: x'1 and x'2 measured independently "
                                   "with equal σ (law of error propagation of px' = x'1 − x'2)",
                                   check=lambda: _ev37(True), claim="wrong",
-                                  expr=lambda: stereo.s_x * sp.sqrt(2)),
+                                  expr=lambda: relation_37(True)),
                "corrected": VersionSpec(
                    EX37_NEW, check=lambda: _ev37(False), claim="right",
-                   expr=lambda: stereo.s_x / sp.sqrt(2))},
+                   expr=lambda: relation_37(False))},
         derivation=stereo.parallax_sigma_independent,
         steps=("px' = x'1 − x'2; independent x'1, x'2 with σ s_x': σ(px') = √2·s_x' (propagation)",
                "σ_XY = m·s_x' with m = 125",

@@ -208,3 +208,24 @@ def test_2136_condition_is_the_height_at_the_origin_not_only_p1_at_the_origin():
                                   "is z1 (a1·x'1 + a2·y'1 = 0)"), verdict
         assert "horizontal plane" in verdict
         assert [r[4] for r in rec.evaluate(version).table] == [True] * 9 + [False] * 3
+
+
+def test_example_37_verdicts_follow_from_the_transcribed_relation():
+    """The check compares the printed s_px'(s_x') with propagation; a swapped print flips it."""
+    import sympy as sp
+
+    from photolib.derive import stereo
+    from photolib.errata import luhmann_ch3
+    s_x = stereo.s_x
+    assert luhmann_ch3._ev37(True, printed=s_x / sp.sqrt(2)).verdict == "wrong"
+    assert luhmann_ch3._ev37(False, printed=s_x * sp.sqrt(2)).verdict == "right"
+    rec = errata.get("luhmann:example-3.7")
+    assert rec.evaluate("old").verdict == rec.specs["old"].verdict
+    ev = rec.evaluate("corrected")
+    assert ev.verdict == rec.specs["corrected"].verdict and ev.counterexample
+    sx = float(next(iter(ev.counterexample.values())))
+    # independent readings x'1, x'2 with σ = sx: σ(x'1 − x'2) by simulation, not SymPy
+    rng = np.random.default_rng(37)
+    sim = np.std(rng.normal(0, sx, 200_000) - rng.normal(0, sx, 200_000))
+    assert sim == pytest.approx(math.sqrt(2) * sx, rel=0.01)
+    assert float(rec.versions["corrected"].subs(s_x, sx)) == pytest.approx(sim / 2, rel=0.01)
