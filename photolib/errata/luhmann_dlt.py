@@ -80,19 +80,35 @@ def _426_given():
     return {**sub, L_SYM: D}
 
 
+V426 = ("right-under-condition: L = −1/√(L9²+L10²+L11²) only when r3·X0 > 0; in general "
+        "sign(L) must give det R = +1 (the added note)")
+
+
 def _426_sign() -> Evidence:
-    """Is L = −1/√(L9² + L10² + L11²) the sign that gives det R = +1 in example 4.3?"""
+    """4.26: the r11 form, |L| = 1/√(L9² + L10² + L11²), and the sign rule in example 4.3."""
     from photolib.symcheck import equivalent
     form = equivalent(_426_expr().subs(_426_given()), _426_target(), time_budget=3.0)
     if form.kind != "equal":
         return Evidence("wrong", "r11 = L(x'0·L9 − L1)/c_x does not hold with L = −r3·X0",
                         form.counterexample, form.values)
+    # |L| from L9..L11: L9..L11 = r3/D with D = −r3·X0, so D²·(L9² + L10² + L11²) = |r3|² = 1
+    # for a rotation (R = R_ω·R_φ·R_κ in the angles)
+    from photolib.derive.rotation import rotation_opk
+    L_rot = dlt.dlt_from_orientation(rotation_opk())
+    D_rot = -(rotation_opk()[:, 2].T * sp.Matrix([col.X0, col.Y0, col.Z0]))[0]
+    norm = equivalent(D_rot**2 * (L_rot[8]**2 + L_rot[9]**2 + L_rot[10]**2), sp.Integer(1),
+                      time_budget=3.0)
+    # example 4.3: the sign rule against det R and r3·X0 of the recomputed orientation
     neg, pos = dlt.decompose(L_PRINTED, -1), dlt.decompose(L_PRINTED, +1)
-    return Evidence("right-under-condition: L = −1/√(L9²+L10²+L11²) only when "
-                    "r3·X0 > 0; in general sign(L) must give det R = +1 (the added note)",
-                    "r11 form equal to the derivation with L = −r3·X0; "
-                    f"example 4.3: det R = {mpmath.nstr(neg['det'], 6)} with L < 0, "
-                    f"{mpmath.nstr(pos['det'], 6)} with L > 0",
+    r3_X0 = sum(neg["R"][i, 2] * neg["X0"][i] for i in range(3))
+    rule = (neg["det"] > 0) == (r3_X0 > 0) and (pos["det"] > 0) == (r3_X0 < 0)
+    detail = (f"r11 form equal to the derivation with L = −r3·X0 ({form.method}); "
+              f"D²·(L9² + L10² + L11²) = 1 for a rotation ({norm.kind}, {norm.method}); "
+              f"example 4.3: r3·X0 = {mpmath.nstr(r3_X0, 6)} mm, det R = "
+              f"{mpmath.nstr(neg['det'], 6)} with L < 0, {mpmath.nstr(pos['det'], 6)} with L > 0")
+    if norm.kind == "equal" and rule:
+        return Evidence(V426, detail, values=(neg["det"], pos["det"]))
+    return Evidence("wrong", "the sign rule or |L| does not hold: " + detail,
                     values=(neg["det"], pos["det"]))
 
 
@@ -195,9 +211,7 @@ def records():
     r.append(formula(
         "luhmann:4.26", SRC + ", p. 251, formula 4.26", "DLT: r11 from L and the sign of L",
         {"printed": VersionSpec(
-            "right-under-condition: L = −1/√(L9²+L10²+L11²) only when r3·X0 > 0; in general "
-            "sign(L) must give det R = +1 (the added note)",
-            expr=_426_expr, claim="right-under-condition", check=_426_sign)},
+            V426, expr=_426_expr, claim="right-under-condition", check=_426_sign)},
         derivation=_426_target, given=_426_given,
         steps=("collinearity with c_x, c_y: x' = x'0 − c_x·kx/N, kx = r1·(X − X0), N = r3·(X − X0)",
                "divide by the constant D = −r3·X0 of the denominator: L9..L11 = r3/D, "

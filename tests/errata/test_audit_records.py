@@ -229,3 +229,29 @@ def test_example_37_verdicts_follow_from_the_transcribed_relation():
     sim = np.std(rng.normal(0, sx, 200_000) - rng.normal(0, sx, 200_000))
     assert sim == pytest.approx(math.sqrt(2) * sx, rel=0.01)
     assert float(rec.versions["corrected"].subs(s_x, sx)) == pytest.approx(sim / 2, rel=0.01)
+
+
+def test_426_sign_rule_is_checked_on_example_43(monkeypatch):
+    """The 4.26 check uses det R and r3·X0 of example 4.3; a broken sign rule makes it 'wrong'."""
+    from photolib.derive import dlt as ddlt
+    ev = luhmann_dlt._426_sign()
+    assert ev.verdict == errata.get("luhmann:4.26").specs["printed"].verdict
+    assert "r3·X0 = 1649.69 mm" in ev.detail and "D²·(L9² + L10² + L11²) = 1" in ev.detail
+    # NumPy, independently: L < 0 gives det R > 0 here, and the object origin is in front
+    L = np.array(luhmann_dlt.L_PRINTED)
+    a1, a2, a3 = L[0:3], L[4:7], L[8:11]
+    Ls = -1 / np.linalg.norm(a3)
+    x0, y0 = Ls**2 * (a1 @ a3), Ls**2 * (a2 @ a3)
+    cx, cy = np.sqrt(Ls**2 * (a1 @ a1) - x0**2), np.sqrt(Ls**2 * (a2 @ a2) - y0**2)
+    R = np.column_stack([Ls * (x0 * a3 - a1) / cx, Ls * (y0 * a3 - a2) / cy, Ls * a3])
+    X0 = np.linalg.solve(np.vstack([a1, a2, a3]), -np.array([L[3], L[7], 1.0]))
+    assert np.linalg.det(R) > 0 and R[:, 2] @ X0 > 0
+    assert R[:, 2] @ X0 == pytest.approx(1649.69, abs=0.01)
+    real = ddlt.decompose
+
+    def flipped(L, sign=-1):                                  # det R with the wrong sign
+        out = dict(real(L, sign))
+        out["det"] = -out["det"]
+        return out
+    monkeypatch.setattr(ddlt, "decompose", flipped)
+    assert luhmann_dlt._426_sign().verdict == "wrong"
