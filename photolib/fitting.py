@@ -6,7 +6,8 @@
 * :func:`circle_from_conic` — centre and radius of ``A(x² + y²) + 2Dx + 2Ey + F = 0``
   (Luhmann 2.86 as corrected: errata record ``luhmann:2.86``).
 * :func:`plane_through_points` (three points, Luhmann 2.136 — record ``luhmann:2.136``: the
-  printed matrix holds only with P1 at the origin) and :func:`fit_plane` (N points, SVD).
+  printed matrix is the plane through (0, 0, z1), P2, P3, so it holds exactly when
+  a1·x1 + a2·y1 = 0, e.g. with P1 at the origin) and :func:`fit_plane` (N points, SVD).
 """
 
 from __future__ import annotations
@@ -272,7 +273,8 @@ def plane_through_points(p1, p2, p3) -> Plane:
     r"""Plane through three points: :math:`n = (P_2 - P_1) × (P_3 - P_1)/|…|`, ``d = n·P1``.
 
     The normal follows the right-hand order P1 → P2 → P3. Luhmann 2.136 writes the same plane as
-    :math:`z = a_0 + a_1x + a_2y`; its printed matrix holds only with P1 at the origin (errata
+    :math:`z = a_0 + a_1x + a_2y`; its printed matrix is the plane through (0, 0, z1), P2 and
+    P3, so it holds exactly when :math:`a_1x_1 + a_2y_1 = 0`, e.g. with P1 at the origin (errata
     record ``luhmann:2.136``): then :math:`a_0 = z_1`, and in general
     :math:`a_1 = -n_x/n_z`, :math:`a_2 = -n_y/n_z`, :math:`a_0 = d/n_z`.
 
