@@ -361,12 +361,37 @@ def judge(exercise, params, answer, outputs_of=None) -> Judgement:
                 continue
             wrong = _expected(exercise, wrong, params, outputs_of)
             hit, _ = compare(exercise, answer, wrong, params)
+            if hit and _closer_to_zero(exercise, answer, wrong, params):
+                continue
         except Exception:  # noqa: BLE001 - a hint rule that does not apply is skipped
             continue
         if hit:
             return verdict("wrong", f"not correct: {mistake.message}", mistake=mistake.tag)
     return verdict("wrong", "not correct" + (f": {reason}" if reason else ""),
                    mistake=_reason_tag(reason))
+
+
+def _closer_to_zero(exercise, answer, wrong, params) -> bool:
+    """Does a mistake whose value is within tolerance of zero match ``answer`` only as zero does?
+
+    A result 1000 times too small (mm for m) of a small reference can be 0 within the
+    tolerance: then an answer of 0, or one nearer to 0 than to the mistake's value, matches
+    the mistake as well as the mistake itself, and "off by a factor of 1000" would be a
+    guess. The hint stays for an answer nearer to the mistake's value than to zero, and for a
+    mistake that really gives zero. Numbers and arrays only.
+    """
+    if exercise.kind not in ("number", "array"):
+        return False
+    values = np.asarray(wrong, float)
+    if not np.any(values):
+        return False
+    zero = np.zeros_like(values) if values.ndim else 0.0
+    if not compare(exercise, zero, values, params)[0]:
+        return False
+    given = _as_number(answer) if exercise.kind == "number" else _numeric_matrix(answer,
+                                                                                 values.ndim)
+    given = np.asarray(given, float)
+    return float(np.max(np.abs(given - values))) >= float(np.max(np.abs(given)))
 
 
 def _reason_tag(reason: str) -> str:

@@ -16,7 +16,7 @@ import sys
 import numpy as np
 import pytest
 
-from photolib.grading.exercises import chapters
+from photolib.grading.exercises import chapters, exercise
 from photolib.grading.notebook import check, parameters_for
 
 from .chapter_checks import judge_as_grader
@@ -72,3 +72,44 @@ def test_a_float32_answer_is_accepted(ex, sid):
     verdict = judge_as_grader(ex, sid, _as_float32(ex, reference))
     assert verdict.status == "correct", verdict.message
     assert run_check(ex, sid, _as_float32(ex, reference)) == f"✔ {ex.id}: correct"
+
+
+# -- an answer of zero -------------------------------------------------------------------------
+
+def test_zero_is_not_called_a_factor_of_1000():
+    # im.log-value (reference ≈ −0.05, tolerance 3e-4): the generic "result / 1000" rule
+    # gives −5e-5, within the tolerance of 0, so an answer of 0 got "off by a factor of 1000:
+    # are mm and m mixed up?"; so did bun.sigma0, prd.occluded-length and others
+    for exercise_id in ("im.log-value", "bun.sigma0", "prd.occluded-length"):
+        ex = exercise(exercise_id)
+        verdict = judge_as_grader(ex, "s1000001", 0.0)
+        assert verdict.status == "wrong"
+        assert verdict.mistake != "units-mm-m", (exercise_id, verdict.message)
+        assert verdict.message == "not correct"
+
+
+@pytest.mark.parametrize("ex", _by_kind("number", "array"), ids=_ids)
+def test_zero_gets_no_hint_of_a_mistake_indistinguishable_from_zero(ex):
+    for sid in [f"s{i}" for i in range(12)]:
+        ref = np.asarray(ex.reference(parameters_for(ex, sid)), float)
+        verdict = judge_as_grader(ex, sid, np.zeros_like(ref) if ref.ndim else 0.0)
+        if verdict.mistake in (None, "other", "shape", "type"):
+            continue
+        # a hint for 0 only from a mistake whose value is exactly zero somewhere it matters
+        rule = next(m for m in ex.mistakes if m.tag == verdict.mistake)
+        assert not np.any(np.asarray(rule.wrong(parameters_for(ex, sid)), float)), (sid, verdict)
+
+
+def test_the_mm_m_hint_still_fires_for_a_real_mm_m_mistake():
+    ex = exercise("im.log-value")
+    ref = ex.reference(parameters_for(ex, "s1000001"))
+    assert judge_as_grader(ex, "s1000001", ref * 1000.0).mistake == "units-mm-m"
+
+
+def test_a_small_mm_m_mistake_keeps_its_hint():
+    # prd.relief-displacement, s0000000: Δr = 3.19 mm, tolerance 0.0057 mm; Δr in m (0.00319)
+    # lies within the tolerance of 0 and still is recognisably the mm/m mistake
+    ex = exercise("prd.relief-displacement")
+    ref = ex.reference(parameters_for(ex, "s0000000"))
+    assert judge_as_grader(ex, "s0000000", ref * 1e-3).mistake == "units-mm-m"
+    assert judge_as_grader(ex, "s0000000", 0.0).mistake == "other"
