@@ -269,6 +269,9 @@ def compare(exercise, answer, expected, params) -> tuple[bool, str]:
             return False, f"expected a SymPy expression, got {_describe(answer)}"
         if isinstance(answer, float):
             answer = sp.Float(answer)
+        if answer.has(sp.nan, sp.zoo, sp.oo, sp.S.NegativeInfinity):
+            # not for symcheck, which calls such a comparison undecided (instructor's note)
+            return False, "the expression is not finite (NaN or infinity: a division by zero?)"
         positive = {sp.Symbol(name): (0.2, 3.0) for name in exercise.positive}
         verdict = _expression_verdict(plain_symbols(answer), plain_symbols(expected), positive)
         if verdict == "undecided":

@@ -113,3 +113,18 @@ def test_a_small_mm_m_mistake_keeps_its_hint():
     ref = ex.reference(parameters_for(ex, "s0000000"))
     assert judge_as_grader(ex, "s0000000", ref * 1e-3).mistake == "units-mm-m"
     assert judge_as_grader(ex, "s0000000", 0.0).mistake == "other"
+
+
+# -- expressions: NaN, division by zero, typos --------------------------------------------------
+
+@pytest.mark.parametrize("value", [float("nan"), float("inf"), "f/0", "f/(k - k)"])
+def test_a_non_finite_expression_is_wrong_not_undecided(value):
+    # a NaN answer, or a formula dividing by zero, was "equivalence could not be decided; the
+    # instructor will look at it" (tag undecided): the student waits for a review that has
+    # nothing to review
+    ex = exercise("opt.dof-limit")
+    verdict = judge_as_grader(ex, "s1000001", value)
+    assert verdict.status == "wrong"
+    assert verdict.mistake != "undecided"
+    assert "instructor" not in verdict.message
+    assert "not finite" in verdict.message
