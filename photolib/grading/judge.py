@@ -353,7 +353,12 @@ def judge(exercise, params, answer, outputs_of=None) -> Judgement:
         return verdict("wrong", f"cannot judge this answer here: {exc}", mistake="unjudged")
     except Exception as exc:  # noqa: BLE001 - e.g. UnsafeExpressionError from the parser
         name = type(exc).__name__
-        return verdict("wrong", f"the answer could not be read ({name}: {exc})",
+        text = str(exc)
+        if name == "UnsafeExpressionError" and (text.startswith("syntax error")
+                                                or "operator BitXor" in text):
+            # a typo or ^ for ** is a slip of the student's, not an attempt at anything unsafe
+            return verdict("wrong", f"the formula could not be read: {text}", mistake="syntax")
+        return verdict("wrong", f"the answer could not be read ({name}: {text})",
                        mistake="unreadable" if name != "UnsafeExpressionError" else "unsafe")
     if ok:
         return verdict("correct", "correct", float(exercise.points))

@@ -128,3 +128,21 @@ def test_a_non_finite_expression_is_wrong_not_undecided(value):
     assert verdict.mistake != "undecided"
     assert "instructor" not in verdict.message
     assert "not finite" in verdict.message
+
+
+@pytest.mark.parametrize("text", ["f**", "(f*k", "", "f^2"])
+def test_a_formula_with_a_typo_is_a_syntax_slip_not_unsafe(text):
+    # a typo was tagged "unsafe" in the gradebook summary (as __import__ is) and the student
+    # read the parser's class name: "the answer could not be read (UnsafeExpressionError: ..."
+    ex = exercise("opt.dof-limit")
+    verdict = judge_as_grader(ex, "s1000001", text)
+    assert verdict.status == "wrong" and verdict.mistake == "syntax"
+    assert verdict.message.startswith("the formula could not be read: ")
+    assert "Error" not in verdict.message
+    assert run_check(ex, "s1000001", text) == f"✘ {ex.id}: {verdict.message}"
+
+
+@pytest.mark.parametrize("text", ["__import__('os')", "f.real", "open('x')"])
+def test_an_unsafe_formula_stays_unsafe(text):
+    verdict = judge_as_grader(exercise("opt.dof-limit"), "s1000001", text)
+    assert verdict.status == "wrong" and verdict.mistake == "unsafe"
