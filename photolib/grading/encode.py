@@ -22,7 +22,8 @@ import math
 
 import numpy as np
 
-__all__ = ["MAX_ELEMENTS", "NOT_ANSWERED", "DecodeError", "decode_value", "encode_value"]
+__all__ = ["MAX_ELEMENTS", "NONE", "NOT_ANSWERED", "DecodeError", "decode_value",
+           "encode_value", "unanswered"]
 
 MAX_ELEMENTS = 100_000
 MAX_NODES = 20_000
@@ -37,12 +38,23 @@ MAX_EXP_HEIGHT = 2
 
 
 class _NotAnswered:
+    def __init__(self, name="NOT_ANSWERED"):
+        self._name = name
+
     def __repr__(self):
-        return "NOT_ANSWERED"
+        return self._name
 
 
-#: decoded value of an untouched answer (``...``, ``None``, missing variable)
+#: decoded value of an untouched answer (``...``, missing variable)
 NOT_ANSWERED = _NotAnswered()
+#: decoded ``None``: an answer variable set to None counts as not answered, but a function
+#: that returns None (a forgotten ``return``) is told so, not "not answered yet"
+NONE = _NotAnswered("NONE")
+
+
+def unanswered(value) -> bool:
+    """Is a decoded value :data:`NOT_ANSWERED` or :data:`NONE`?"""
+    return value is NOT_ANSWERED or value is NONE
 
 
 class DecodeError(ValueError):
@@ -53,7 +65,9 @@ def encode_value(value, _depth=0):
     """JSON-ready description of ``value`` (runs in the kernel; standard library only)."""
     import sys
     sp = sys.modules.get("sympy")
-    if value is None or value is Ellipsis or value is NotImplemented:
+    if value is None:
+        return {"t": "none", "v": "None"}
+    if value is Ellipsis or value is NotImplemented:
         return {"t": "none"}
     if isinstance(value, bool):
         return {"t": "bool", "v": bool(value)}
@@ -256,7 +270,7 @@ def decode_value(data, _depth=0):
     Returns
     -------
     object
-        :data:`NOT_ANSWERED`, bool, float, str, ``numpy.ndarray``, SymPy expression or
+        :data:`NOT_ANSWERED`, :data:`NONE`, bool, float, str, ``numpy.ndarray``, SymPy expression or
         ``sympy.Matrix``, or a list of these.
 
     Raises
@@ -268,7 +282,7 @@ def decode_value(data, _depth=0):
         raise DecodeError(f"bad answer record {str(data)[:80]!r}")
     kind = data["t"]
     if kind == "none":
-        return NOT_ANSWERED
+        return NONE if data.get("v") == "None" else NOT_ANSWERED
     if kind == "bool":
         return bool(data.get("v"))
     if kind == "str":

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from photolib.grading.encode import NOT_ANSWERED, Unsupported
+from photolib.grading.encode import NONE, NOT_ANSWERED, Unsupported, unanswered
 from photolib.grading.hints import generic_mistakes
 
 __all__ = ["FunctionOutputs", "Judgement", "compare", "judge", "propagated_atol"]
@@ -289,6 +289,8 @@ def compare(exercise, answer, expected, params) -> tuple[bool, str]:
         if len(answer.outputs) != len(expected):
             return False, "the function did not answer every test input"
         for got, want in zip(answer.outputs, expected):
+            if got is NONE:
+                return False, "the function returned None: is its return statement missing?"
             if got is NOT_ANSWERED or isinstance(got, (str, Unsupported, list)):
                 return False, f"the function returned {_describe(got)}"
             if not _numbers_match(got, want, rtol, atol):
@@ -342,7 +344,7 @@ def judge(exercise, params, answer, outputs_of=None) -> Judgement:
     def verdict(status, message, points=0.0, mistake=None):
         return Judgement(exercise.id, status, points, float(exercise.points), message, mistake)
 
-    if answer is NOT_ANSWERED or (isinstance(answer, FunctionOutputs)
+    if unanswered(answer) or (isinstance(answer, FunctionOutputs)
                                   and answer.outputs and all(o is NOT_ANSWERED
                                                              for o in answer.outputs)):
         return verdict("not-answered", "not answered yet")

@@ -146,3 +146,37 @@ def test_a_formula_with_a_typo_is_a_syntax_slip_not_unsafe(text):
 def test_an_unsafe_formula_stays_unsafe(text):
     verdict = judge_as_grader(exercise("opt.dof-limit"), "s1000001", text)
     assert verdict.status == "wrong" and verdict.mistake == "unsafe"
+
+
+# -- a function without return ------------------------------------------------------------------
+
+def _no_return(*args):
+    args[0] * 2                         # the student computed, but forgot the return
+
+
+@pytest.mark.parametrize("ex", _by_kind("function"), ids=_ids)
+def test_a_function_without_return_is_told_so(ex):
+    # a function returning None was "not answered yet", in check() and in the gradebook,
+    # though the student had written it: encode_value made None and ... the same
+    verdict = judge_as_grader(ex, "s1000001", _no_return)
+    assert verdict.status == "wrong"
+    assert verdict.message == "not correct: the function returned None: is its return " \
+                              "statement missing?"
+    assert run_check(ex, "s1000001", _no_return) == f"✘ {ex.id}: {verdict.message}"
+
+
+@pytest.mark.parametrize("ex", _by_kind("function"), ids=_ids)
+def test_the_untouched_function_and_not_implemented_are_not_answered(ex):
+    def raises(*args):
+        raise NotImplementedError
+
+    for func in (lambda *args: ..., raises):
+        assert judge_as_grader(ex, "s1000001", func).status == "not-answered"
+        assert run_check(ex, "s1000001", func) == f"… {ex.id}: not answered yet"
+
+
+@pytest.mark.parametrize("ex", _by_kind("number", "array", "rotation", "expression", "choice"),
+                         ids=_ids)
+def test_an_answer_set_to_none_is_not_answered(ex):
+    assert judge_as_grader(ex, "s1000001", None).status == "not-answered"
+    assert run_check(ex, "s1000001", None) == f"… {ex.id}: not answered yet"
