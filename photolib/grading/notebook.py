@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import sys
 
-from photolib.grading.encode import NOT_ANSWERED, decode_value, encode_value
+from photolib.grading.encode import (NOT_ANSWERED, DecodeError, Unsupported, decode_value,
+                                      encode_value)
 from photolib.grading.exercises import exercise as _exercise
 from photolib.grading.judge import FunctionOutputs, judge
 from photolib.grading.spec import Params
@@ -77,6 +78,27 @@ def reference_outputs(cases):
     return outputs_of
 
 
+def _read(value):
+    """``value`` as the grader reads it, including what it makes of an unreadable one.
+
+    The grader turns an answer its encoder or decoder rejects (``sympy.nan``, ``Max(a, b)``,
+    an int of 400 digits) into :class:`~photolib.grading.encode.Unsupported` with the reason
+    (:func:`photolib.grading.extract.decode_item`), which the judge then calls wrong; ``check``
+    says the same, with the same words.
+    """
+    try:
+        data = encode_value(value)
+    except Exception as exc:  # noqa: BLE001 - the grader's kernel reports the type only
+        return Unsupported(f"unreadable answer (encoding failed with {type(exc).__name__})")
+    try:
+        return decode_value(data)
+    except RecursionError:
+        return Unsupported("answer nested too deeply")
+    except Exception as exc:  # noqa: BLE001
+        reason = str(exc) if isinstance(exc, DecodeError) else f"{type(exc).__name__}: {exc}"
+        return Unsupported(f"unreadable answer ({reason[:200]})")
+
+
 def check(exercise_id: str) -> None:
     """Judge the current answer of ``exercise_id`` and print one line of feedback."""
     try:
@@ -97,11 +119,7 @@ def check(exercise_id: str) -> None:
             answer = function_outputs(value, cases)
             outputs_of = reference_outputs(cases)
     else:
-        try:
-            answer = decode_value(encode_value(value))
-        except Exception as exc:  # noqa: BLE001
-            print(f"{ex.id}: the answer could not be read ({type(exc).__name__}: {exc})")
-            return
+        answer = _read(value)
     verdict = judge(ex, params, answer, outputs_of)
     mark = {"correct": "✔", "not-answered": "…"}.get(verdict.status, "✘")
     print(f"{mark} {ex.id}: {verdict.message}")

@@ -180,3 +180,38 @@ def test_the_untouched_function_and_not_implemented_are_not_answered(ex):
 def test_an_answer_set_to_none_is_not_answered(ex):
     assert judge_as_grader(ex, "s1000001", None).status == "not-answered"
     assert run_check(ex, "s1000001", None) == f"… {ex.id}: not answered yet"
+
+
+# -- an answer the grader cannot read: check() says what the grader says -------------------------
+
+def _as_the_grader_reads(ex, sid, value):
+    """The verdict of the batch grader: the kernel's encoding (an exception becomes its type
+    name, as the extraction cell reports it), then :func:`judge_item`."""
+    import json
+
+    from photolib.grading.encode import encode_value
+    from photolib.grading.extract import judge_item
+    try:
+        item = {"value": json.loads(json.dumps(encode_value(value)))}
+    except Exception as exc:  # noqa: BLE001
+        item = {"error": type(exc).__name__}
+    return judge_item(ex, sid, item, None)
+
+
+@pytest.mark.parametrize(("exercise_id", "make"), [
+    ("opt.dof-limit", lambda sp: sp.nan),
+    ("opt.dof-limit", lambda sp: sp.Max(sp.Symbol("f"), sp.Symbol("k"))),
+    ("opt.dof-limit", lambda sp: sp.Eq(sp.Symbol("t"), sp.Symbol("f"))),
+    ("demo.image-scale", lambda sp: sp.oo),
+    ("demo.image-scale", lambda sp: 10 ** 400),
+    ("demo.rotation-x", lambda sp: sp.Matrix(3, 3, [sp.nan] * 9)),
+])
+def test_check_and_the_grader_say_the_same_of_an_unreadable_answer(exercise_id, make):
+    # check() printed "opt.dof-limit: the answer could not be read (DecodeError: 'NaN' is not
+    # an allowed function)", without the ✘ and in other words than the gradebook's "not
+    # correct: expected a SymPy expression, got an unreadable answer (...)"
+    import sympy as sp
+    ex, value = exercise(exercise_id), make(sp)
+    verdict = _as_the_grader_reads(ex, "s1000001", value)
+    assert verdict.status == "wrong"
+    assert run_check(ex, "s1000001", value) == f"✘ {ex.id}: {verdict.message}"
