@@ -309,14 +309,19 @@ def _describe(value) -> str:
         if free:
             names = ", ".join(sorted(str(s) for s in free))
             return f"a SymPy Matrix with free symbols ({names}): substitute numbers for them"
-        return "a SymPy Matrix whose entries are not all real numbers"
+        try:
+            np.asarray(value.evalf(), dtype=float)
+        except (TypeError, ValueError, OverflowError):
+            return "a SymPy Matrix whose entries are not all real numbers"
+        return f"a {value.rows}×{value.cols} SymPy Matrix"
     if isinstance(value, Unsupported):
         if value.type_name.startswith("unreadable"):
             return f"an {value.type_name}"
         return f"a {value.type_name}"
     if value is NOT_ANSWERED:
         return "nothing"
-    return f"a {type(value).__name__}"
+    name = type(value).__name__
+    return f"{'an' if name[:1].lower() in 'aeiou' else 'a'} {name}"
 
 
 def _expected(exercise, value, params, outputs_of):

@@ -215,3 +215,17 @@ def test_check_and_the_grader_say_the_same_of_an_unreadable_answer(exercise_id, 
     verdict = _as_the_grader_reads(ex, "s1000001", value)
     assert verdict.status == "wrong"
     assert run_check(ex, "s1000001", value) == f"✘ {ex.id}: {verdict.message}"
+
+
+def test_a_numeric_matrix_for_a_number_is_described_as_it_is():
+    # sympy.Matrix([3.19]) for a number was "a SymPy Matrix whose entries are not all real
+    # numbers", though its one entry is a real number; sympy.I was "a ImaginaryUnit"
+    import sympy as sp
+    ex = exercise("demo.image-scale")
+    message = judge_as_grader(ex, "s1000001", sp.Matrix([3.19])).message
+    assert message == "not correct: expected a number, got a 1×1 SymPy Matrix"
+    assert judge_as_grader(ex, "s1000001", sp.I).message == \
+        "not correct: expected a number, got an ImaginaryUnit"
+    complex_entries = sp.Matrix(3, 3, [sp.I] * 9)
+    assert "not all real numbers" in judge_as_grader(exercise("demo.rotation-x"), "s1000001",
+                                                     complex_entries).message
