@@ -190,7 +190,46 @@ def _parse_formula(exercise, text: str):
     import sympy as sp
 
     from photolib.symcheck import parse_expression
-    return parse_expression(text, symbols=[sp.Symbol(s) for s in exercise.symbols] or None)
+    symbols = [sp.Symbol(s) for s in exercise.symbols] or None
+    cells = _matrix_cells(text)
+    if cells is not None:
+        return sp.Matrix([[parse_expression(c, symbols=symbols) for c in row] for row in cells])
+    return parse_expression(text, symbols=symbols)
+
+
+def _matrix_cells(text: str):
+    """The cells of a Matrix typed as text, ``"Matrix([[a, b], [c, d]])"``, as source strings.
+
+    ``sympy.Matrix(...)`` and ``sp.Matrix(...)`` too; a flat list is a column, as in SymPy.
+    ``None`` for anything else (then the text is one formula). Each cell is later parsed by
+    :func:`photolib.symcheck.parse_expression`, without ``eval``.
+    """
+    import ast
+    if len(text) > 20_000 or "Matrix" not in text:
+        return None
+    try:
+        node = ast.parse(text.strip(), mode="eval").body
+    except (SyntaxError, ValueError, RecursionError, MemoryError):
+        return None
+    if not (isinstance(node, ast.Call) and len(node.args) == 1 and not node.keywords):
+        return None
+    func = node.func
+    named = isinstance(func, ast.Name) and func.id == "Matrix"
+    dotted = (isinstance(func, ast.Attribute) and func.attr == "Matrix"
+              and isinstance(func.value, ast.Name) and func.value.id in ("sp", "sympy"))
+    if not (named or dotted) or not isinstance(node.args[0], (ast.List, ast.Tuple)):
+        return None
+    rows = node.args[0].elts
+    if rows and all(isinstance(r, (ast.List, ast.Tuple)) for r in rows):
+        cells = [[ast.unparse(c) for c in r.elts] for r in rows]
+    elif not any(isinstance(r, (ast.List, ast.Tuple)) for r in rows):
+        cells = [[ast.unparse(c)] for c in rows]
+    else:
+        return None
+    width = {len(r) for r in cells}
+    if len(cells) == 0 or len(width) != 1 or 0 in width or len(cells) * width.pop() > 400:
+        return None
+    return cells
 
 
 def _as_number(answer):

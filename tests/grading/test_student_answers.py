@@ -229,3 +229,29 @@ def test_a_numeric_matrix_for_a_number_is_described_as_it_is():
     complex_entries = sp.Matrix(3, 3, [sp.I] * 9)
     assert "not all real numbers" in judge_as_grader(exercise("demo.rotation-x"), "s1000001",
                                                      complex_entries).message
+
+
+# -- a Matrix typed as a formula string -----------------------------------------------------------
+
+@pytest.mark.parametrize("prefix", ["Matrix", "sp.Matrix", "sympy.Matrix"])
+def test_a_matrix_formula_string_is_read(prefix):
+    # the kind "expression" takes "a SymPy expression or Matrix, or a formula string", but
+    # "Matrix([[1, 0, 0], ...])" was "the answer could not be read (UnsafeExpressionError: not
+    # allowed: call of 'Matrix'; ...)" with the tag unsafe
+    ex = exercise("demo.rotation-x-symbolic")
+    text = (prefix + "([[1, 0, 0], [0, cos(omega), -sin(omega)], "
+            "[0, sin(omega), cos(omega)]])")
+    assert judge_as_grader(ex, "s1000001", text).status == "correct"
+    assert run_check(ex, "s1000001", text) == f"✔ {ex.id}: correct"
+    transposed = text.replace("-sin", "+X").replace("sin(omega), cos", "-sin(omega), cos") \
+        .replace("+X", "sin")
+    assert judge_as_grader(ex, "s1000001", transposed).mistake == "transposed"
+
+
+@pytest.mark.parametrize("text", ["Matrix([[1, 0], [0]])", "Matrix([[__import__('os')]])",
+                                  "Matrix([[x.y]])", "Matrix(3, 3, [0]*9)", "os.Matrix([[1]])"])
+def test_a_malformed_or_unsafe_matrix_string_is_wrong(text):
+    verdict = judge_as_grader(exercise("demo.rotation-x-symbolic"), "s1000001", text)
+    assert verdict.status == "wrong"
+    if "_" in text or "." in text.split("(")[-1]:
+        assert verdict.mistake == "unsafe"
