@@ -330,8 +330,15 @@ def compare(exercise, answer, expected, params) -> tuple[bool, str]:
         for got, want in zip(answer.outputs, expected):
             if got is NONE:
                 return False, "the function returned None: is its return statement missing?"
-            if got is NOT_ANSWERED or isinstance(got, (str, Unsupported, list)):
+            if got is NOT_ANSWERED or isinstance(got, (str, bool, Unsupported, list)):
                 return False, f"the function returned {_describe(got)}"
+            # a SymPy number or numeric Matrix is read as for number and array answers
+            got = _numeric_matrix(_as_number(got), np.ndim(want))
+            if not isinstance(got, (float, np.ndarray)):
+                return False, f"the function returned {_describe(got)}"
+            if np.shape(got) != np.shape(want):
+                return False, (f"the function returned shape {np.shape(got)}, "
+                               f"expected shape {np.shape(want)}")
             if not _numbers_match(got, want, rtol, atol):
                 return False, ""
         return True, ""

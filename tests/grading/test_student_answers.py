@@ -255,3 +255,36 @@ def test_a_malformed_or_unsafe_matrix_string_is_wrong(text):
     assert verdict.status == "wrong"
     if "_" in text or "." in text.split("(")[-1]:
         assert verdict.mistake == "unsafe"
+
+
+# -- what a student function returns ----------------------------------------------------------
+
+def _returning(ex, sid, convert):
+    reference = ex.reference(parameters_for(ex, sid))
+    return lambda *args: convert(reference(*args))
+
+
+@pytest.mark.parametrize("ex", [ex for ex in _by_kind("function")
+                                if np.ndim(ex.reference(parameters_for(ex, "s1000001"))(
+                                    *ex.cases(np.random.default_rng(0),
+                                              parameters_for(ex, "s1000001"))[0])) == 1],
+                         ids=_ids)
+def test_a_function_returning_a_sympy_matrix_or_a_column(ex):
+    # a function returning sympy.Matrix(...) of the right numbers was "not correct" with no
+    # reason (a SymPy Matrix is 2-D), though a Matrix is accepted for array answers; a (3, 1)
+    # column was "not correct" with no word of the shape
+    import sympy as sp
+    as_matrix = _returning(ex, "s1000001", lambda v: sp.Matrix(np.asarray(v, float).tolist()))
+    assert judge_as_grader(ex, "s1000001", as_matrix).status == "correct"
+    column = _returning(ex, "s1000001", lambda v: np.asarray(v, float).reshape(-1, 1))
+    verdict = judge_as_grader(ex, "s1000001", column)
+    assert verdict.status == "wrong" and "shape" in verdict.message, verdict.message
+
+
+def test_a_function_returning_a_bool_or_a_symbol_is_wrong_with_a_reason():
+    import sympy as sp
+    ex = exercise("demo.scale-function")
+    assert judge_as_grader(ex, "s1000001", lambda c, h: True).message == \
+        "not correct: the function returned a bool"
+    verdict = judge_as_grader(ex, "s1000001", lambda c, h: sp.Symbol("m") * h)
+    assert verdict.message == "not correct: the function returned a Mul"
