@@ -345,7 +345,11 @@ def compare(exercise, answer, expected, params) -> tuple[bool, str]:
     if kind == "choice":
         if not isinstance(answer, str):
             return False, f"expected an option key such as 'a', got {_describe(answer)}"
-        return answer.strip().lower().strip("()") == str(expected).lower(), ""
+        # "b", "B", "(b)", "b)", "b." and "'b'" (quotes typed inside the string) are all b
+        key = answer.strip().lower().strip("()[].:'\" \t")
+        if key not in {str(k).lower() for k in exercise.choices}:
+            return False, "expected the letter of one option, such as 'a'"
+        return key == str(expected).lower(), ""
     raise ValueError(f"unknown answer kind {kind!r}")
 
 

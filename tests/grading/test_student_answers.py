@@ -288,3 +288,17 @@ def test_a_function_returning_a_bool_or_a_symbol_is_wrong_with_a_reason():
         "not correct: the function returned a bool"
     verdict = judge_as_grader(ex, "s1000001", lambda c, h: sp.Symbol("m") * h)
     assert verdict.message == "not correct: the function returned a Mul"
+
+
+# -- multiple choice --------------------------------------------------------------------------
+
+@pytest.mark.parametrize("ex", _by_kind("choice"), ids=_ids)
+def test_a_choice_is_read_as_students_write_it(ex):
+    # "b." and "'b'" were wrong with no reason; the option's text, or two letters, were a bare
+    # "not correct", though the task asks for one letter
+    key = ex.reference(parameters_for(ex, "s1000001"))
+    for typed in (key, key.upper(), f"({key})", f"{key})", f"{key}.", f"'{key}'", f" {key} "):
+        assert judge_as_grader(ex, "s1000001", typed).status == "correct", typed
+    for typed in ("its transpose", f"{key}, {key}", "z", ""):
+        verdict = judge_as_grader(ex, "s1000001", typed)
+        assert verdict.message == "not correct: expected the letter of one option, such as 'a'"
