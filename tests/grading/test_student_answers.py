@@ -302,3 +302,17 @@ def test_a_choice_is_read_as_students_write_it(ex):
     for typed in ("its transpose", f"{key}, {key}", "z", ""):
         verdict = judge_as_grader(ex, "s1000001", typed)
         assert verdict.message == "not correct: expected the letter of one option, such as 'a'"
+
+
+# -- rounded as printed -----------------------------------------------------------------------
+
+@pytest.mark.parametrize("sid", STUDENTS + ("s3",))
+def test_a_height_given_to_the_cm_is_accepted(sid):
+    # st.height (Z ≈ −1300 … −5300 m from c to 0.01 mm, B to 0.1 m, px' to 0.001 mm) had rtol
+    # 1e-6: Z printed to the cm (e.g. −1285.75) was wrong, though the printed inputs carry only
+    # some 0.1 m
+    ex = exercise("st.height")
+    z = ex.reference(parameters_for(ex, sid))
+    assert judge_as_grader(ex, sid, round(z, 2)).status == "correct"
+    assert judge_as_grader(ex, sid, round(z, 1)).status == "correct"
+    assert judge_as_grader(ex, sid, -z).mistake == "sign-c"

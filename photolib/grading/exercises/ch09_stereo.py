@@ -24,6 +24,7 @@ import math
 import numpy as np
 
 from photolib.grading import hints
+from photolib.grading.judge import rounding_tolerance
 from photolib.grading.exercises.ch04_rotations import scaled_parameters
 from photolib.grading.spec import Exercise, Mistake
 from photolib.grading.variants import aerial_camera, close_range_camera
@@ -52,7 +53,10 @@ height = Exercise(
               "base B = {B_m} m. A point has the x-parallax px' = x'1 − x'2 = {px_mm} mm. "
               "Give its Z coordinate in m in the course's normal-case frame (camera 1 at the "
               "origin, camera 2 at (B, 0, 0), both looking down −Z).",
-    parameters=_height_params, reference=_height, rtol=1e-6, atol=1e-9,
+    # the rounding of the printed c (0.01 mm), B (0.1 m) and px' (0.001 mm): some 0.1 m, so Z
+    # given to the cm (six digits) passes; rtol 1e-6 alone rejected it. The mistakes below
+    # change the sign or the unit of Z, far outside
+    parameters=_height_params, reference=_height, tolerance=lambda p: _HEIGHT_TOLERANCE(p),
     mistakes=(
         Mistake("sign-c", hints.MESSAGES["sign-c"] + ": Z = −c·B/px' is negative, the point "
                 "lies below the cameras (the distance h = −Z is positive)",
@@ -64,6 +68,9 @@ height = Exercise(
                               "have the same unit",
                 lambda p: _height(p, c=p["c_mm"] / 1000.0)),
     ))
+
+_HEIGHT_TOLERANCE = rounding_tolerance(_height, {"c_mm": 0.005, "B_m": 0.05, "px_mm": 0.0005},
+                                       mistakes=[m.wrong for m in height.mistakes])
 
 
 # -- 2. σ_Z of a stereo pair (number) -------------------------------------------------------------
