@@ -144,23 +144,71 @@ def _run_ok(cmd, **kw) -> bool:
 PRIVATE_PLACES = ("/tmp", "/var/tmp", "/run/lock", "/dev/shm")
 
 
-def _mount_script(base: str, work: str, places, size_mb: int, hide: bool) -> str:
+#: at most this many folders of the grader's own (Python, photolib) are bound back into the
+#: private places: the shell holds each open on a file descriptor 3…9 while the tmpfs goes on
+MAX_KEPT = 7
+
+
+@functools.cache
+def kept_folders(places: tuple = PRIVATE_PLACES) -> tuple[str, ...]:
+    """Folders a kernel needs that lie in one of the private ``places``.
+
+    The kernel runs this Python and imports photolib: the virtual environment, photolib's
+    root and the folders on ``sys.path`` must stay visible over the private tmpfs. A clone
+    made with ``git clone . "$(mktemp -d)/c"`` has both in /tmp, where a private /tmp would
+    hide them and every kernel die before it answers. Returns the outermost such folders,
+    shallowest first.
+    """
+    roots = [Path(p).resolve() for p in places if os.path.isdir(p)]
+    wanted = [Path(__file__).resolve().parents[2], Path(sys.prefix), Path(sys.exec_prefix),
+              Path(sys.base_prefix), Path(sys.executable).parent,
+              Path(os.path.realpath(sys.executable)).parent]
+    wanted += [Path(p) for p in sys.path if p]
+    wanted += [Path(p) for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
+    found = set()
+    for w in wanted:
+        try:
+            r = w.resolve()
+        except OSError:
+            continue
+        if r.is_dir() and any(r == root or root in r.parents for root in roots):
+            found.add(r)
+    kept: list[Path] = []
+    for r in sorted(found, key=lambda q: (len(q.parts), str(q))):
+        if not any(k == r or k in r.parents for k in kept):
+            kept.append(r)
+    return tuple(str(k) for k in kept)
+
+
+def _mount_script(base: str, work: str, places, size_mb: int, hide: bool,
+                  keep=()) -> str:
     """Shell steps (run as root in the new mount namespace) for private places and /proc.
 
     ``base`` (the kernel's folder: working copy, IPC sockets, TMPDIR) may lie in one of the
     places: the shell enters it first and binds it back to its path over the new tmpfs.
+    ``keep`` (at most :data:`MAX_KEPT` folders, :func:`kept_folders`) are opened on file
+    descriptors 3, 4, … before the tmpfs is mounted and bound back the same way; the
+    descriptors are closed before the kernel starts.
     """
     q = shlex.quote
-    steps = [f"cd {q(base)}"]
+    keep = list(keep) if places else []
+    if len(keep) > MAX_KEPT:
+        raise ValueError(f"{len(keep)} folders to keep visible, at most {MAX_KEPT}: {keep}")
+    steps = [f"cd {q(base)}"] + [f"exec {3 + i}< {q(k)}" for i, k in enumerate(keep)]
     for place in places:
         size = 2 * size_mb if place == "/tmp" else size_mb
         steps.append(f"mount -t tmpfs -o size={size}m,mode=1777,nosuid,nodev "
                      f"photolib-sandbox {q(place)}")
     if places:
         # "." is the folder entered above, the original: not canonicalised into the new tmpfs
-        # (the parents of base, made in the new tmpfs, must be enterable by the kernel's user)
+        # (the parents of base, made in the new tmpfs, must be enterable by the kernel's user);
+        # /proc/self/fd/N likewise names the original folder held open on descriptor N
         steps += [f"(umask 022 && mkdir -p {q(base)})",
                   f"mount --no-canonicalize --bind . {q(base)}"]
+        for i, k in enumerate(keep):
+            steps += [f"(umask 022 && mkdir -p {q(k)})",
+                      f"mount --no-canonicalize --bind /proc/self/fd/{3 + i} {q(k)}",
+                      f"exec {3 + i}<&-"]
     if hide:
         steps.append("mount -t proc -o hidepid=2,nosuid,nodev,noexec proc /proc")
     steps.append(f"cd {q(work)}")
@@ -235,10 +283,12 @@ def _probe_mounts() -> tuple[bool, bool]:
         os.mkdir(work)
         places = tuple(p for p in PRIVATE_PLACES if os.path.isdir(p))
         open(os.path.join(base, "marker"), "w").close()
-        script = _mount_script(base, work, places, 1, False) + \
-            f" && test -e {shlex.quote(base)}/marker"
-        tmp_ok = _run_ok(["unshare", "--mount", "--propagation", "private", "--",
-                          "sh", "-c", script])
+        keep = kept_folders(places)
+        # the kernel folder and this Python must be there over the tmpfs
+        script = _mount_script(base, work, places, 1, False, keep[:MAX_KEPT]) + \
+            f" && test -e {shlex.quote(base)}/marker && test -x {shlex.quote(sys.executable)}"
+        tmp_ok = len(keep) <= MAX_KEPT and _run_ok(
+            ["unshare", "--mount", "--propagation", "private", "--", "sh", "-c", script])
         hide_ok = _run_ok(["unshare", "--mount", "--propagation", "private", "--", "sh", "-c",
                            _mount_script(base, work, (), 1, True)])
         return tmp_ok, hide_ok
@@ -322,7 +372,7 @@ class SandboxedKernel:
             places = [p for p in PRIVATE_PLACES if os.path.isdir(p)] if support.private_tmp \
                 else []
             steps.append(_mount_script(base, str(self.workdir), places, lim.file_mb,
-                                       support.hide_processes))
+                                       support.hide_processes, kept_folders(tuple(places))))
         if steps:  # as root, in the new namespaces: the same process, exec'd on below
             cmd += ["sh", "-c", " && ".join(steps) + ' && exec "$@"', "photolib-sandbox"]
         if support.prlimit:

@@ -35,6 +35,8 @@ from photolib.grading.sandbox import (
     sandbox_support,
 )
 
+from photolib.grading import sandbox
+
 from .conftest import ROOT
 
 #: a user id outside the sandbox pool (61000-61511), for files and IPC objects made here
@@ -267,6 +269,52 @@ def test_mount_script_binds_the_kernel_folder_back():
     assert "size=64m,mode=1777,nosuid,nodev photolib-sandbox /dev/shm" in script
     assert "mount --no-canonicalize --bind . /tmp/photolib-grade-x" in script
     assert "hidepid=2" in script and script.endswith("cd /tmp/photolib-grade-x/work")
+
+
+def test_mount_script_binds_kept_folders_back():
+    script = _mount_script("/tmp/photolib-grade-x", "/tmp/photolib-grade-x/work",
+                           PRIVATE_PLACES, 64, False, ["/tmp/clone", "/tmp/other env"])
+    # opened before the tmpfs goes on, bound back after it, closed before the kernel starts
+    opened = script.index("exec 3< /tmp/clone"), script.index("exec 4< '/tmp/other env'")
+    mounted = script.index("photolib-sandbox /tmp")
+    assert max(opened) < mounted
+    assert script.index("mount --no-canonicalize --bind /proc/self/fd/3 /tmp/clone") > mounted
+    assert "mount --no-canonicalize --bind /proc/self/fd/4 '/tmp/other env'" in script
+    assert "exec 3<&-" in script and "exec 4<&-" in script
+    # nothing to keep without private places
+    assert "exec 3" not in _mount_script("/b", "/b/w", (), 64, True, ["/tmp/clone"])
+    with pytest.raises(ValueError, match="at most"):
+        _mount_script("/b", "/b/w", PRIVATE_PLACES, 64, False, [f"/tmp/{i}" for i in range(8)])
+
+
+def test_kept_folders_are_the_outermost_needed_folders_in_private_places(monkeypatch, tmp_path):
+    # a clone made by `git clone . "$(mktemp -d)/c"`: repository and venv both in /tmp
+    venv = tmp_path / "c" / ".venv"
+    (venv / "bin").mkdir(parents=True)
+    (venv / "lib").mkdir()
+    monkeypatch.setattr(sys, "prefix", str(venv))
+    monkeypatch.setattr(sys, "path", [str(venv / "lib"), "/usr/lib/python3", ""])
+    kept = sandbox.kept_folders.__wrapped__(("/tmp",))
+    assert str(venv.resolve()) in kept
+    assert not any(k == "/usr/lib/python3" for k in kept)
+    assert not any(a != b and b.startswith(a + "/") for a in kept for b in kept)
+
+
+def test_kept_folders_stay_visible_over_the_private_tmp(tmp_path):
+    if not sandbox_support().private_tmp:
+        pytest.skip("no private mount namespace here: " + " ".join(sandbox_support().notes))
+    base, keep, hidden = tmp_path / "base", tmp_path / "env", tmp_path / "hidden"
+    (base / "work").mkdir(parents=True)
+    keep.mkdir()
+    hidden.mkdir()
+    (keep / "marker").write_text("kept")
+    (hidden / "marker").write_text("hidden")
+    places = tuple(p for p in PRIVATE_PLACES if os.path.isdir(p))
+    script = _mount_script(str(base), str(base / "work"), places, 1, False, [str(keep)])
+    script += f" && test -e {keep}/marker && ! test -e {hidden}/marker && ! test -e /proc/self/fd/3"
+    run = subprocess.run(["unshare", "--mount", "--propagation", "private", "--",
+                          "sh", "-c", script], capture_output=True, text=True, timeout=30)
+    assert run.returncode == 0, run.stderr
 
 
 def test_sandbox_support_says_what_is_missing():
