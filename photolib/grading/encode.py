@@ -23,7 +23,7 @@ import math
 import numpy as np
 
 __all__ = ["MAX_ELEMENTS", "NONE", "NOT_ANSWERED", "DecodeError", "decode_value",
-           "encode_value", "unanswered"]
+           "decoded_or_unsupported", "encode_value", "unanswered"]
 
 MAX_ELEMENTS = 100_000
 MAX_NODES = 20_000
@@ -329,3 +329,19 @@ class Unsupported:
 
     def __repr__(self):
         return f"Unsupported({self.type_name!r})"
+
+
+def decoded_or_unsupported(decode):
+    """``decode()``, or :class:`Unsupported` with the reason when it fails.
+
+    One bad answer costs its own exercise only; the grader's extraction
+    (:func:`photolib.grading.extract.decode_item`) and ``check()`` in the notebook both read
+    answers through here, so they say the same words.
+    """
+    try:
+        return decode()
+    except RecursionError:
+        return Unsupported("answer nested too deeply")
+    except Exception as exc:  # noqa: BLE001 - any failure is the answer's, not the grader's
+        reason = str(exc) if isinstance(exc, DecodeError) else f"{type(exc).__name__}: {exc}"
+        return Unsupported(f"unreadable answer ({reason[:200]})")

@@ -18,7 +18,7 @@ import secrets
 import numpy as np
 
 from photolib.grading import encode
-from photolib.grading.encode import NOT_ANSWERED, DecodeError, Unsupported, decode_value
+from photolib.grading.encode import NOT_ANSWERED, DecodeError, decode_value
 from photolib.grading.judge import FunctionOutputs
 from photolib.grading.sandbox import RESULT_MIME
 
@@ -273,13 +273,7 @@ def record_student_id(record: dict):
 
 def decode_item(ex, item):
     """Decode one answer item; any failure becomes :class:`Unsupported` with the reason."""
-    try:
-        return _decode_item(ex, item)
-    except RecursionError:
-        return Unsupported("answer nested too deeply")
-    except Exception as exc:  # noqa: BLE001 - one bad answer costs its own exercise only
-        reason = str(exc) if isinstance(exc, DecodeError) else f"{type(exc).__name__}: {exc}"
-        return Unsupported(f"unreadable answer ({reason[:200]})")
+    return encode.decoded_or_unsupported(lambda: _decode_item(ex, item))
 
 
 def judge_item(ex, student_id: str, item, cases):

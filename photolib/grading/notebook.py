@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import sys
 
-from photolib.grading.encode import (NOT_ANSWERED, DecodeError, Unsupported, decode_value,
-                                      encode_value)
+from photolib.grading.encode import (NOT_ANSWERED, Unsupported, decode_value,
+                                      decoded_or_unsupported, encode_value)
 from photolib.grading.exercises import exercise as _exercise
 from photolib.grading.judge import FunctionOutputs, judge
 from photolib.grading.spec import Params
@@ -90,13 +90,7 @@ def _read(value):
         data = encode_value(value)
     except Exception as exc:  # noqa: BLE001 - the grader's kernel reports the type only
         return Unsupported(f"unreadable answer (encoding failed with {type(exc).__name__})")
-    try:
-        return decode_value(data)
-    except RecursionError:
-        return Unsupported("answer nested too deeply")
-    except Exception as exc:  # noqa: BLE001
-        reason = str(exc) if isinstance(exc, DecodeError) else f"{type(exc).__name__}: {exc}"
-        return Unsupported(f"unreadable answer ({reason[:200]})")
+    return decoded_or_unsupported(lambda: decode_value(data))
 
 
 def check(exercise_id: str) -> None:
