@@ -46,7 +46,7 @@ lab: $(VENV)/.course-installed
 		$(if $(filter 0,$(shell id -u)),--allow-root)
 
 test: $(VENV)/.test-installed
-	$(BIN)/python -m ruff check photolib tests benchmarks
+	$(BIN)/python -m ruff check photolib tests benchmarks conftest.py
 	$(BIN)/python -m pytest -q -n $(JOBS) -m "not browser" tests photolib --doctest-modules
 	$(BIN)/python -m pytest -q -n $(JOBS) --dist loadfile --nbval --nbval-sanitize-with tests/nbval_sanitize.cfg \
 		notebooks/*.ipynb solutions/*.ipynb

@@ -1,0 +1,46 @@
+"""Repository-wide pytest set-up: nbval's kernels talk over Unix sockets, not TCP ports.
+
+``make test`` runs nbval with two xdist workers, each starting a kernel per notebook. Over
+TCP every kernel takes five random free ports, found by binding port 0 and closing it again,
+so two kernels starting at the same moment in two processes can be handed the same port; the
+client then talks to the other worker's kernel, whose key does not match, and the notebook
+fails with "Kernel didn't respond in 60 seconds" (seen once in a fresh clone, on
+``exercises/02-optics.ipynb``). Unix domain sockets (``transport="ipc"``, as the grader's
+sandboxed kernels use) are files in a folder of each kernel's own: nothing to collide on.
+"""
+
+from __future__ import annotations
+
+import atexit
+import shutil
+import tempfile
+
+
+def _ipc_start_new_kernel(startup_timeout=60, kernel_name="python", **kwargs):
+    """:func:`nbval.kernel.start_new_kernel` with the kernel's sockets in a private folder."""
+    from nbval import kernel as nbval_kernel
+
+    folder = tempfile.mkdtemp(prefix="nbval-ipc-")
+    atexit.register(shutil.rmtree, folder, ignore_errors=True)
+    km = nbval_kernel.KernelManager(kernel_name=kernel_name, transport="ipc",
+                                    ip=f"{folder}/k",
+                                    kernel_spec_manager=nbval_kernel.NbvalKernelspecManager())
+    km.start_kernel(**kwargs)
+    kc = km.client()
+    kc.start_channels()
+    try:
+        kc.wait_for_ready(timeout=startup_timeout)
+    except RuntimeError:
+        nbval_kernel.logger.exception('Failure starting kernel "%s"', kernel_name)
+        kc.stop_channels()
+        km.shutdown_kernel()
+        raise
+    return km, kc
+
+
+def pytest_configure(config):
+    try:
+        from nbval import kernel as nbval_kernel
+    except ImportError:  # nbval not installed: nothing to set up
+        return
+    nbval_kernel.start_new_kernel = _ipc_start_new_kernel
