@@ -432,8 +432,57 @@ def judge(exercise, params, answer, outputs_of=None) -> Judgement:
             continue
         if hit:
             return verdict("wrong", f"not correct: {mistake.message}", mistake=mistake.tag)
+    rounded = _rounded_mistake(exercise, answer, expected, params, outputs_of)
+    if rounded is not None:
+        return verdict("wrong", f"not correct: {rounded.message}", mistake=rounded.tag)
     return verdict("wrong", "not correct" + (f": {reason}" if reason else ""),
                    mistake=_reason_tag(reason))
+
+
+#: relative tolerance at which a rounded answer still shows which mistake it is: four
+#: significant digits, as students copy numbers from a printout
+HINT_RTOL = 5e-4
+
+
+def _rounded_mistake(exercise, answer, expected, params, outputs_of):
+    """The one mistake a number or array answer matches to four significant digits, or None.
+
+    The hints above compare with the exercise's own tolerance, which a student who made a
+    recognised mistake and then rounded to four digits misses: the answer is wrong either
+    way, but the hint is lost. This second look accepts :data:`HINT_RTOL` per entry (plus the
+    exercise's ``atol``), and names a mistake only when the answer is not as near the correct
+    value and no other mistake with a different hint is as near.
+    """
+    if exercise.kind not in ("number", "array"):
+        return None
+    given = (_as_number(answer) if exercise.kind == "number"
+             else _numeric_matrix(answer, np.ndim(expected)))
+    if not isinstance(given, (float, np.ndarray)):
+        return None
+    given = np.asarray(given, float)
+    if not np.all(np.isfinite(given)):
+        return None
+    _, atol = exercise.tolerances(params)
+
+    def near(target) -> bool:
+        t = np.asarray(target, float)
+        return (t.shape == given.shape and bool(np.all(np.isfinite(t)))
+                and bool(np.all(np.abs(given - t) <= atol + HINT_RTOL * np.abs(t))))
+
+    if near(expected):
+        return None
+    found = {}
+    for mistake in tuple(exercise.mistakes) + generic_mistakes(exercise):
+        try:
+            wrong = mistake.wrong(params)
+            if wrong is None:
+                continue
+            wrong = _expected(exercise, wrong, params, outputs_of)
+            if near(wrong) and not _closer_to_zero(exercise, answer, wrong, params):
+                found.setdefault(mistake.message, mistake)
+        except Exception:  # noqa: BLE001 - a hint rule that does not apply is skipped
+            continue
+    return next(iter(found.values())) if len(found) == 1 else None
 
 
 def _closer_to_zero(exercise, answer, wrong, params) -> bool:
