@@ -419,12 +419,10 @@ def judge(exercise, params, answer, outputs_of=None) -> Judgement:
                        mistake="unreadable" if name != "UnsafeExpressionError" else "unsafe")
     if ok:
         return verdict("correct", "correct", float(exercise.points))
-    for mistake in tuple(exercise.mistakes) + generic_mistakes(exercise):
+    tried = []
+    for mistake, wrong in _mistake_values(exercise, params, outputs_of):
+        tried.append((mistake, wrong))
         try:
-            wrong = mistake.wrong(params)
-            if wrong is None:
-                continue
-            wrong = _expected(exercise, wrong, params, outputs_of)
             hit, _ = compare(exercise, answer, wrong, params)
             if hit and _closer_to_zero(exercise, answer, wrong, params):
                 continue
@@ -432,7 +430,7 @@ def judge(exercise, params, answer, outputs_of=None) -> Judgement:
             continue
         if hit:
             return verdict("wrong", f"not correct: {mistake.message}", mistake=mistake.tag)
-    rounded = _rounded_mistake(exercise, answer, expected, params, outputs_of)
+    rounded = _rounded_mistake(exercise, answer, expected, params, tried)
     if rounded is not None:
         return verdict("wrong", f"not correct: {rounded.message}", mistake=rounded.tag)
     return verdict("wrong", "not correct" + (f": {reason}" if reason else ""),
@@ -444,14 +442,31 @@ def judge(exercise, params, answer, outputs_of=None) -> Judgement:
 HINT_RTOL = 5e-4
 
 
-def _rounded_mistake(exercise, answer, expected, params, outputs_of):
+def _mistake_values(exercise, params, outputs_of):
+    """``(mistake, value)`` for every hint rule that applies, computed as they are asked for.
+
+    ``value`` is what a student who made the mistake answers; a rule that raises or returns
+    None does not apply to these parameters and is skipped.
+    """
+    for mistake in tuple(exercise.mistakes) + generic_mistakes(exercise):
+        try:
+            wrong = mistake.wrong(params)
+            value = None if wrong is None else _expected(exercise, wrong, params, outputs_of)
+        except Exception:  # noqa: BLE001 - a hint rule that does not apply is skipped
+            continue
+        if value is not None:
+            yield mistake, value
+
+
+def _rounded_mistake(exercise, answer, expected, params, tried):
     """The one mistake a number or array answer matches to four significant digits, or None.
 
     The hints above compare with the exercise's own tolerance, which a student who made a
     recognised mistake and then rounded to four digits misses: the answer is wrong either
     way, but the hint is lost. This second look accepts :data:`HINT_RTOL` per entry (plus the
     exercise's ``atol``), and names a mistake only when the answer is not as near the correct
-    value and no other mistake with a different hint is as near.
+    value and no other mistake with a different hint is as near. ``tried`` are the
+    ``(mistake, value)`` pairs of :func:`_mistake_values` that the first look compared.
     """
     if exercise.kind not in ("number", "array"):
         return None
@@ -472,15 +487,11 @@ def _rounded_mistake(exercise, answer, expected, params, outputs_of):
     if near(expected):
         return None
     found = {}
-    for mistake in tuple(exercise.mistakes) + generic_mistakes(exercise):
+    for mistake, wrong in tried:
         try:
-            wrong = mistake.wrong(params)
-            if wrong is None:
-                continue
-            wrong = _expected(exercise, wrong, params, outputs_of)
             if near(wrong) and not _closer_to_zero(exercise, answer, wrong, params):
                 found.setdefault(mistake.message, mistake)
-        except Exception:  # noqa: BLE001 - a hint rule that does not apply is skipped
+        except Exception:  # noqa: BLE001 - a value that cannot be compared gives no hint
             continue
     return next(iter(found.values())) if len(found) == 1 else None
 
