@@ -50,7 +50,8 @@ from typing import Any
 import mpmath
 import sympy as sp
 
-__all__ = ["KINDS", "UnsafeExpressionError", "Verdict", "equivalent", "parse_expression"]
+__all__ = ["KINDS", "FormulaSyntaxError", "UnsafeExpressionError", "Verdict", "equivalent",
+           "parse_expression"]
 
 #: the possible values of :attr:`Verdict.kind`
 KINDS = ("equal", "not-equal", "equal-under-condition", "undecided")
@@ -62,6 +63,14 @@ _CANCEL_GRACE = 5.0  # seconds a cancelled route may take to stop (a long C call
 
 class UnsafeExpressionError(ValueError):
     """Raised by :func:`parse_expression` for any construct outside the whitelist."""
+
+
+class FormulaSyntaxError(UnsafeExpressionError):
+    """The text is not a formula at all: a syntax error, or ``^`` typed for ``**``.
+
+    A slip of the writer's, not an attempt at running code; the grader tells the two apart
+    (tag ``syntax`` against ``unsafe``).
+    """
 
 
 @dataclass(frozen=True)
@@ -452,6 +461,8 @@ def _build(node, table, depth):
             return _FUNCTIONS[name](*args)
         except TypeError as exc:
             raise UnsafeExpressionError(f"bad arguments for {name!r}: {exc}") from None
+    if isinstance(node, ast.BinOp) and isinstance(node.op, ast.BitXor):
+        raise FormulaSyntaxError(f"not allowed: {_construct_name(node)}")
     raise UnsafeExpressionError(f"not allowed: {_construct_name(node)}")
 
 
@@ -496,9 +507,9 @@ def parse_expression(text: str, symbols=None) -> sp.Expr:
     except SyntaxError as exc:
         primed = re.sub(r"([A-Za-z]\w*)'", r"\1_p", text.strip())
         if primed == text.strip() or "'" in primed or '"' in primed:
-            raise UnsafeExpressionError(f"syntax error in {text!r}: {exc.msg}") from None
+            raise FormulaSyntaxError(f"syntax error in {text!r}: {exc.msg}") from None
         try:
             tree = ast.parse(primed, mode="eval")
         except SyntaxError as exc2:
-            raise UnsafeExpressionError(f"syntax error in {text!r}: {exc2.msg}") from None
+            raise FormulaSyntaxError(f"syntax error in {text!r}: {exc2.msg}") from None
     return _build(tree.body, table, 0)

@@ -411,8 +411,7 @@ def judge(exercise, params, answer, outputs_of=None) -> Judgement:
     except Exception as exc:  # noqa: BLE001 - e.g. UnsafeExpressionError from the parser
         name = type(exc).__name__
         text = str(exc)
-        if name == "UnsafeExpressionError" and (text.startswith("syntax error")
-                                                or "operator BitXor" in text):
+        if name == "FormulaSyntaxError":
             # a typo or ^ for ** is a slip of the student's, not an attempt at anything unsafe
             return verdict("wrong", f"the formula could not be read: {text}", mistake="syntax")
         return verdict("wrong", f"the answer could not be read ({name}: {text})",

@@ -126,3 +126,18 @@ def test_parser_accepts_and_binds_symbols():
         sp.Symbol("y", real=True), 2) + sp.pi
     assert parse_expression("x'") == sp.Symbol("x_p", real=True)
     assert isinstance(UnsafeExpressionError("m"), ValueError)
+
+
+@pytest.mark.parametrize("text", ["f**", "(x + 1", "", "x ^ 2", "2 +* x"])
+def test_a_typo_is_a_formula_syntax_error(text):
+    from photolib.symcheck import FormulaSyntaxError
+    with pytest.raises(FormulaSyntaxError):
+        parse_expression(text)
+
+
+@pytest.mark.parametrize("text", ["__import__('os')", "x.real", "open('f')", "x[0]"])
+def test_code_is_unsafe_but_not_a_syntax_error(text):
+    from photolib.symcheck import FormulaSyntaxError
+    with pytest.raises(UnsafeExpressionError) as info:
+        parse_expression(text)
+    assert not isinstance(info.value, FormulaSyntaxError)
