@@ -16,31 +16,20 @@ import shutil
 import tempfile
 
 
-def _ipc_start_new_kernel(startup_timeout=60, kernel_name="python", **kwargs):
-    """:func:`nbval.kernel.start_new_kernel` with the kernel's sockets in a private folder."""
-    from nbval import kernel as nbval_kernel
-
-    folder = tempfile.mkdtemp(prefix="nbval-ipc-")
-    atexit.register(shutil.rmtree, folder, ignore_errors=True)
-    km = nbval_kernel.KernelManager(kernel_name=kernel_name, transport="ipc",
-                                    ip=f"{folder}/k",
-                                    kernel_spec_manager=nbval_kernel.NbvalKernelspecManager())
-    km.start_kernel(**kwargs)
-    kc = km.client()
-    kc.start_channels()
-    try:
-        kc.wait_for_ready(timeout=startup_timeout)
-    except RuntimeError:
-        nbval_kernel.logger.exception('Failure starting kernel "%s"', kernel_name)
-        kc.stop_channels()
-        km.shutdown_kernel()
-        raise
-    return km, kc
-
-
 def pytest_configure(config):
     try:
         from nbval import kernel as nbval_kernel
     except ImportError:  # nbval not installed: nothing to set up
         return
-    nbval_kernel.start_new_kernel = _ipc_start_new_kernel
+    base = nbval_kernel.KernelManager
+
+    class IpcKernelManager(base):
+        """nbval's kernel manager with the kernel's sockets in a private folder."""
+
+        def __init__(self, **kwargs):
+            folder = tempfile.mkdtemp(prefix="nbval-ipc-")
+            atexit.register(shutil.rmtree, folder, ignore_errors=True)
+            super().__init__(transport="ipc", ip=f"{folder}/k", **kwargs)
+
+    # nbval.kernel.start_new_kernel builds its manager from this module-level name
+    nbval_kernel.KernelManager = IpcKernelManager
