@@ -10,21 +10,56 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 
 from photolib.errata import catalogue, get
 
 
+# A float is never printed as its full repr: its last digits differ between CPUs and BLAS kernels
+# (1.0 here is 1.0000000000000002 there), and the notebooks' committed outputs must not.
+SIGNIFICANT = 10
+
+
 def _fmt(v) -> str:
+    """Text of one value: floats to ``SIGNIFICANT`` significant digits, sequences element-wise."""
     try:
         import mpmath
         if isinstance(v, (mpmath.mpf, mpmath.mpc)):
-            return mpmath.nstr(v, 12)
+            return mpmath.nstr(v, SIGNIFICANT)
     except ImportError:  # pragma: no cover
         pass
     if isinstance(v, (list, tuple)):
         return "[" + ", ".join(_fmt(e) for e in v) + "]"
+    if isinstance(v, (bool, int)):
+        return str(v)
+    try:
+        import numbers
+        if isinstance(v, numbers.Real):
+            return f"{float(v):.{SIGNIFICANT}g}"
+    except (TypeError, ValueError):  # pragma: no cover - a SymPy number that is not real
+        pass
     return str(v)
+
+
+def _fmt_row(row) -> str:
+    """One comparison row ``(name, printed, recomputed, tolerance, agrees)``.
+
+    The recomputed value is given to one decimal below the tolerance's leading digit (the digits
+    the comparison can justify; at most ``SIGNIFICANT - 1`` decimals, so that an exact check with
+    a tolerance of 1e-12 does not print rounding noise), the tolerance to two significant digits;
+    other rows by ``_fmt``.
+    """
+    if len(row) == 5 and all(isinstance(c, float) for c in row[1:4]) and row[3] > 0:
+        name, printed, recomputed, tol, agrees = row
+        decimals = min(max(0, 1 - math.floor(math.log10(tol))), SIGNIFICANT - 1)
+        text = f"{recomputed:.{decimals}f}"
+        if len(text.lstrip("-").replace(".", "").lstrip("0")) > SIGNIFICANT:
+            text = _fmt(recomputed)
+        if float(text) == 0:        # -1e-17 on one CPU, +1e-17 on the next: both are 0
+            text = text.lstrip("-")
+        return " | ".join([str(name), _fmt(printed), text, f"{tol:.2g}", str(agrees)])
+    return " | ".join(_fmt(c) for c in row)
 
 
 def record_json(rec) -> dict:
@@ -59,7 +94,7 @@ def describe(rec) -> str:
             lines.append(f"    values (printed, derived): {_fmt(ev.values[0])} | "
                          f"{_fmt(ev.values[1])}")
         for row in ev.table:
-            lines.append("    " + " | ".join(_fmt(c) for c in row))
+            lines.append("    " + _fmt_row(row))
     if rec.note:
         lines.append(f"  note: {rec.note}")
     return "\n".join(lines)
