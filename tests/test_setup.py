@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import signal
 import socket
 import subprocess
 import sys
 import time
+import tomllib
 import urllib.request
 from pathlib import Path
 
@@ -73,3 +75,55 @@ def _stop(proc: subprocess.Popen) -> None:
             return
         except subprocess.TimeoutExpired:
             continue
+
+
+# -- the lock ------------------------------------------------------------------------------------
+
+def _locked() -> dict[str, str]:
+    """``{normalised name: version}`` of constraints.txt."""
+    pins = {}
+    for line in (ROOT / "constraints.txt").read_text(encoding="utf-8").splitlines():
+        line = line.split("#", 1)[0].strip()
+        if line:
+            name, sep, version = line.partition("==")
+            assert sep and version, f"constraints.txt: {line!r} is not an exact pin name==version"
+            pins[re.sub(r"[-_.]+", "-", name).lower()] = version
+    return pins
+
+
+def _declared() -> set[str]:
+    """Normalised names of every requirement in pyproject.toml (dependencies and extras)."""
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["project"]
+    reqs = list(project["dependencies"])
+    for extra in project["optional-dependencies"].values():
+        reqs += extra
+    names = {re.sub(r"[-_.]+", "-", re.match(r"[A-Za-z0-9._-]+", r).group()).lower() for r in reqs}
+    return names - {"photolib"}
+
+
+def test_lock_pins_every_declared_requirement():
+    missing = _declared() - set(_locked())
+    assert not missing, f"constraints.txt has no pin for {sorted(missing)}: run make lock"
+
+
+def test_installed_versions_are_the_locked_ones():
+    """The environment the tests (and the committed outputs) run in is the locked one."""
+    from importlib import metadata
+    differ = []
+    for dist in metadata.distributions():
+        name = re.sub(r"[-_.]+", "-", dist.metadata["Name"]).lower()
+        locked = _locked().get(name)
+        if locked is not None and dist.version != locked:
+            differ.append(f"{name} {dist.version} (locked {locked})")
+    assert not differ, ("installed versions differ from constraints.txt: " + ", ".join(differ)
+                        + "; reinstall with make test, or make lock to refresh the lock")
+
+
+def test_make_installs_from_the_lock():
+    make = (ROOT / "Makefile").read_text(encoding="utf-8")
+    installs = [line for line in make.splitlines() if "pip install" in line and "-e '." in line]
+    assert len(installs) == 2, installs                        # the course and the test extras
+    assert all("-c $(LOCK)" in line for line in installs), installs
+    assert re.search(r"^LOCK\s*:=\s*constraints\.txt$", make, re.M)
+    assert re.search(r"^\$\(VENV\)/\.test-installed: pyproject\.toml \$\(LOCK\)", make, re.M)
+    assert re.search(r"^lock:", make, re.M) and "pip freeze --exclude photolib" in make
