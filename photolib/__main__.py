@@ -1,18 +1,20 @@
-"""Command line of the course: ``python -m photolib COMMAND ...``.
-
-Commands
---------
-errata         print the verdict table of the errata catalogue (``--id``, ``--json``)
-check-formula  check a typed formula against a catalogue record
-assign         generate the student copies in ``exercises/`` from ``solutions/``
-grade          grade submitted notebooks into a gradebook
-codegen        regenerate ``photolib/_generated`` from ``photolib/derive``
-"""
+"""Command line of the course: ``python -m photolib COMMAND ...`` (``USAGE`` is its help)."""
 
 from __future__ import annotations
 
 import importlib
 import sys
+
+#: what ``python -m photolib --help`` prints: plain text, no reStructuredText markup
+USAGE = """\
+usage: python -m photolib COMMAND [options]   (python -m photolib COMMAND --help for its options)
+
+commands:
+  errata         print the verdict table of the errata catalogue (--id ID, --json)
+  check-formula  check a typed formula against a catalogue record
+  assign         generate the student copies in exercises/ from solutions/
+  grade          grade submitted notebooks into a gradebook
+  codegen        regenerate photolib/_generated from photolib/derive"""
 
 #: command -> "module:function" taking argv (list of str) and returning an exit code
 COMMANDS = {
@@ -35,7 +37,7 @@ def main(argv: list[str] | None = None) -> int:
 
 def _dispatch(argv: list[str]) -> int:
     if not argv or argv[0] in ("-h", "--help"):
-        print(__doc__.strip())
+        print(USAGE)
         return 0
     name, rest = argv[0], argv[1:]
     if name not in COMMANDS:

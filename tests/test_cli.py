@@ -49,3 +49,39 @@ def test_assign_outside_the_course_is_a_one_line_error(tmp_path, monkeypatch, ca
     assert main(["assign", "--check"]) == 2
     err = capsys.readouterr().err
     assert err.startswith("assign: no folder solutions") and "Traceback" not in err
+
+
+def _markup(text: str) -> list[str]:
+    """reStructuredText markup a reader of a terminal would see raw: ``x``, `x`, :role:`x`."""
+    import re
+    return re.findall(r"(?::\w+:)?(?:``[^`\n]+``|`[^`\n]+`)", text)
+
+
+def test_markup_detector():
+    assert _markup("see ``--id`` and :func:`f` and `x`") == ["``--id``", ":func:`f`", "`x`"]
+    assert _markup("plain text, no quotes") == []
+
+
+def test_help_texts_show_no_rst_markup(capsys):
+    texts = []
+    for argv in [["--help"], *[[name, "--help"] for name in COMMANDS]]:
+        try:
+            main(argv)
+        except SystemExit:  # argparse's --help
+            pass
+        texts.append((argv, capsys.readouterr().out))
+    bad = [(argv, _markup(out)) for argv, out in texts if _markup(out)]
+    assert not bad, bad
+
+
+def test_errata_texts_show_no_rst_markup():
+    """Every text of the catalogue the errata CLI prints (item, steps, declared verdicts, note)."""
+    from photolib import errata
+    bad = []
+    for rec in errata.catalogue():
+        steps = rec.steps() if callable(rec.steps) else rec.steps
+        texts = [rec.item, rec.note or "", *map(str, steps)]
+        texts += [spec.verdict for spec in rec.specs.values()]
+        texts += [spec.condition_text for spec in rec.specs.values()]
+        bad += [(rec.id, m) for t in texts for m in _markup(t)]
+    assert not bad, bad

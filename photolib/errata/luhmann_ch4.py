@@ -212,7 +212,7 @@ def records():
              "The errata list defines neither A_i nor ξ, η, ζ, so which κ belongs in A_i is a "
              "question of notation that no derivation decides. Each print equals the "
              "derivation under one reading and differs from it under the other (a "
-             "counterexample in `--id`); either way R_i is a rotation (orthonormal, det 1)."))
+             "counterexample: errata --id luhmann:4.76); either way R_i is a rotation (orthonormal, det 1)."))
     r.append(Record(
         id="luhmann:example-4.8", source=SRC + ", p. 298, example 4.8",
         item="stereo normal case: Z from parallax", kind="example",

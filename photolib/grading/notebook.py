@@ -34,13 +34,46 @@ def _student_id(ns: dict) -> str:
     return sid if isinstance(sid, str) else str(sid)
 
 
+#: what task() and check() say, instead of numbers, while STUDENT_ID is empty
+NO_STUDENT_ID = ("STUDENT_ID is empty: set it in the first cell to your student id, then run "
+                 "the notebook again (your numbers depend on it; no numbers are issued without it).")
+
+
+class StudentIdMissing(RuntimeError):
+    """Raised by the parameters of a task read while ``STUDENT_ID`` is empty."""
+
+
+class NoParameters:
+    """What :func:`task` returns while ``STUDENT_ID`` is empty: any parameter read raises.
+
+    >>> NoParameters().c_mm
+    Traceback (most recent call last):
+    ...
+    photolib.grading.notebook.StudentIdMissing: STUDENT_ID is empty: ...
+    """
+
+    def __getattr__(self, name):
+        if name.startswith("__"):
+            raise AttributeError(name)
+        raise StudentIdMissing(NO_STUDENT_ID)
+
+    __getitem__ = __getattr__
+
+    def __repr__(self):
+        return "NoParameters(STUDENT_ID is empty)"
+
+
 def parameters_for(exercise, student_id: str) -> Params:
     """The variant of ``exercise`` for ``student_id``."""
     return Params(exercise.parameters(rng_for(student_id, exercise.id)))
 
 
-def task(exercise_id: str) -> Params:
+def task(exercise_id: str) -> Params | NoParameters:
     """Print the exercise with this student's numbers and return them.
+
+    While ``STUDENT_ID`` is empty it prints one line saying so and issues no numbers: the
+    statement is not printed and the returned :class:`NoParameters` raises on any read, so no
+    one works on the numbers of the empty id (which are nobody's and graded as nobody's).
 
     Returns
     -------
@@ -49,8 +82,9 @@ def task(exercise_id: str) -> Params:
     """
     ex = _exercise(exercise_id)
     sid = _student_id(_namespace())
-    if not sid:
-        print("STUDENT_ID is empty: set it in the first cell (your numbers depend on it).")
+    if not sid.strip():
+        print(f"✋ {ex.id}: {NO_STUDENT_ID}")
+        return NoParameters()
     params = parameters_for(ex, sid)
     unit = "point" if ex.points == 1 else "points"
     print(f"{ex.id} ({ex.points:g} {unit}) {ex.title}\n{ex.statement.format(**params)}")
@@ -94,7 +128,11 @@ def _read(value):
 
 
 def check(exercise_id: str) -> None:
-    """Judge the current answer of ``exercise_id`` and print one line of feedback."""
+    """Judge the current answer of ``exercise_id`` and print one line of feedback.
+
+    While ``STUDENT_ID`` is empty an answer is not judged (it would be judged against the
+    numbers of the empty id, which are nobody's): check says so instead.
+    """
     try:
         ex = _exercise(exercise_id)
     except KeyError as exc:
@@ -115,5 +153,8 @@ def check(exercise_id: str) -> None:
     else:
         answer = _read(value)
     verdict = judge(ex, params, answer, outputs_of)
+    if not sid.strip() and verdict.status != "not-answered":    # judged against nobody's numbers
+        print(f"✋ {ex.id}: {NO_STUDENT_ID}")
+        return
     mark = {"correct": "✔", "not-answered": "…"}.get(verdict.status, "✘")
     print(f"{mark} {ex.id}: {verdict.message}")

@@ -12,6 +12,7 @@ by name, so adding a chapter is adding a file.
 
 from __future__ import annotations
 
+import difflib
 import functools
 import importlib
 import pkgutil
@@ -57,4 +58,12 @@ def exercise(exercise_id: str):
             if ex.id == exercise_id:
                 return ex
     known = sorted(ex.id for exs in chapters().values() for ex in exs)
-    raise KeyError(f"unknown exercise id {exercise_id!r}; known ids: {known}")
+    near = difflib.get_close_matches(exercise_id, known, n=3, cutoff=0.8)
+    if near:
+        hint = "did you mean " + " or ".join(repr(n) for n in near) + "?"
+    else:
+        prefix = exercise_id.split(".")[0] + "."
+        same = [k for k in known if k.startswith(prefix)]
+        hint = (f"the ids beginning {prefix!r} are {same}" if same else
+                "the ids are those of the task(...) cells in the chapter notebooks")
+    raise KeyError(f"unknown exercise id {exercise_id!r}; {hint}")
