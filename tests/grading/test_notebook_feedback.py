@@ -50,7 +50,7 @@ def test_empty_student_id_issues_no_numbers(namespace, capsys, sid):
     numbers = parameters_for(ex, sid)
     assert not any(f"{v}" in out for v in numbers.values() if isinstance(v, float))
     with pytest.raises(StudentIdMissing, match="STUDENT_ID is empty"):
-        getattr(p, "omega_gon")
+        _ = p.omega_gon
     with pytest.raises(StudentIdMissing):
         p["omega_gon"]
 
