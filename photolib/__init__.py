@@ -31,6 +31,9 @@ _EXPORTS = {
     # collinearity, distortion, pixels
     "PointBehindCameraError": "collinearity", "collinearity_jacobian": "collinearity",
     "monoplot": "collinearity", "project": "collinearity",
+    # earth curvature and atmospheric refraction of aerial images (chapter 06)
+    "earth_curvature_correction": "aerial", "refraction_constant": "aerial",
+    "refraction_correction": "aerial",
     "ConvergenceReport": "distortion", "Distortion": "distortion",
     "DistortionDivergenceError": "distortion", "OpenCVFit": "distortion",
     "PlumbLineResult": "calibration", "plumb_line": "calibration",
