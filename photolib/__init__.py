@@ -94,7 +94,7 @@ _EXPORTS = {
     "fundamental_matrix": "stereo", "height_from_parallax": "stereo",
     "normal_case_accuracy": "stereo", "normal_case_points": "stereo",
     "normal_case_rotation": "stereo", "normalised_image_points": "stereo",
-    "relative_orientation": "stereo",
+    "relative_orientation": "stereo", "independent_relative_orientation": "stereo",
     # chapter 12: products (orthophoto, true orthophoto, mosaic) and the glossary
     "DTM": "orthophoto", "FrameCamera": "orthophoto", "OutsideModelError": "orthophoto",
     "differential_rectification": "orthophoto", "mosaic_nearest_nadir": "orthophoto",

@@ -24,7 +24,7 @@ from __future__ import annotations
 import sympy as sp
 
 from photolib.derive import collinearity as col
-from photolib.derive.rotation import skew
+from photolib.derive.rotation import R_kappa, R_phi, rotation_opk, skew
 
 X, Y, Z, c, x0, y0 = col.X, col.Y, col.Z, col.c, col.x0, col.y0
 B = sp.symbols("B", positive=True)
@@ -197,6 +197,35 @@ def coplanarity_normal_case():
     y2 = sp.symbols("y2", real=True)
     M = sp.Matrix([[bx, x1, x2], [0, y1, y2], [0, -c, -c]])
     return sp.expand(M.det() / (bx * c))
+
+
+#: the five angles of the independent relative orientation
+ro_angles = sp.symbols("phi1 kappa1 omega2 phi2 kappa2", real=True)
+
+
+def independent_coplanarity():
+    """The coplanarity condition of the independent relative orientation, and its gradient.
+
+    ``v = det[b, R1·x*1, R2·x*2]/(bx·c)`` with ``b = (bx, 0, 0)``, ``R1 = R_φ(φ1)·R_κ(κ1)``,
+    ``R2 = R_ω(ω2)·R_φ(φ2)·R_κ(κ2)``, ``x*_i = (x'_i, y'_i, −c)``. Returns ``(v, grad)`` with
+    the gradient by (φ1, κ1, ω2, φ2, κ2). At the normal case (all angles 0) v is the
+    y-parallax and the gradient the classical coefficients of the unabhängige Bildpaare:
+
+    >>> v, grad = independent_coplanarity()
+    >>> at0 = {a: 0 for a in ro_angles}
+    >>> sp.simplify(v.subs(at0))
+    -y1 + y2
+    >>> [sp.factor(g.subs(at0)) for g in grad]
+    [x1*y2/c, -x1, (c**2 + y1*y2)/c, -x2*y1/c, x2]
+    """
+    bx, y2 = sp.symbols("b_x", positive=True), sp.symbols("y2", real=True)
+    phi1, kappa1, omega2, phi2, kappa2 = ro_angles
+    R1 = R_phi(phi1) * R_kappa(kappa1)
+    R2 = rotation_opk(omega2, phi2, kappa2)
+    r1 = R1 * sp.Matrix([x1, y1, -c])
+    r2 = R2 * sp.Matrix([x2, y2, -c])
+    v = sp.Matrix.hstack(sp.Matrix([bx, 0, 0]), r1, r2).det() / (bx * c)
+    return v, [sp.diff(v, a) for a in ro_angles]
 
 
 def orientation_unknowns():

@@ -14,6 +14,8 @@ is ``X = X0 + λ·R·x*`` with ``λ > 0`` in front.
   matrix ``E = R1ᵀ [b]× R2``; the fundamental matrix for image coordinates, epipolar lines.
 * :func:`relative_orientation`: dependent relative orientation (Folgebildanschluss) with the
   five unknowns by, bz, ω2, φ2, κ2 (camera 1 fixed at the origin with R1 = I, bx fixed).
+* :func:`independent_relative_orientation`: independent relative orientation (unabhängige
+  Bildpaare) with the five angles φ1, κ1, ω2, φ2, κ2 (the base fixed along x).
 * :func:`absolute_orientation`: 3-D similarity (Helmert, 7 parameters) ``X = X0 + m·R·x``.
 * :func:`normal_case_rotation`, :func:`normalised_image_points`: epipolar (normalised) images.
 
@@ -40,15 +42,19 @@ from photolib.stereo._normal import (
 )
 from photolib.stereo._orientation import (
     AbsoluteOrientation,
+    IndependentRelativeOrientation,
     RelativeOrientation,
     absolute_orientation,
     coplanarity_residuals,  # noqa: F401 - public in the module before the split
+    independent_coplanarity_residuals,  # noqa: F401 - the residuals of the form below
+    independent_relative_orientation,
     relative_orientation,
 )
 
 __all__ = [
     "AbsoluteOrientation",
     "ForwardIntersection",
+    "IndependentRelativeOrientation",
     "RelativeOrientation",
     "StereoAccuracy",
     "absolute_orientation",
@@ -57,6 +63,7 @@ __all__ = [
     "forward_intersection",
     "fundamental_matrix",
     "height_from_parallax",
+    "independent_relative_orientation",
     "normal_case_accuracy",
     "normal_case_points",
     "normal_case_rotation",

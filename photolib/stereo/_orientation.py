@@ -5,6 +5,11 @@ r"""Orientation of a stereo pair: dependent relative orientation and absolute or
   model scale. Gauss–Newton on the coplanarity condition scaled to a y-parallax,
   ``v = det[b, x*1, R2·x*2]/(bx·c)``, for the five unknowns (by, bz, ω2, φ2, κ2); the model
   points are the forward intersection of the oriented rays.
+* :func:`independent_relative_orientation` (unabhängige Bildpaare): the base fixed along the
+  model x axis, ``b = (bx, 0, 0)``; both images rotate, ``R1 = R_φ(φ1)·R_κ(κ1)`` (ω1 = 0: a
+  rotation about the base changes nothing) and ``R2 = R_ω(ω2)·R_φ(φ2)·R_κ(κ2)``; the unknowns
+  (φ1, κ1, ω2, φ2, κ2), the same coplanarity condition ``det[b, R1·x*1, R2·x*2]/(bx·c)``. Both
+  forms give the same model up to a similarity (a rotation about image 1 and the scale).
 * :func:`absolute_orientation`: 3-D similarity (Helmert, 7 parameters) ``X = X0 + m·R·x``
   from model to object coordinates, in closed form (Horn 1987, Umeyama 1991).
 """
@@ -158,12 +163,38 @@ def relative_orientation(xy1, xy2, c, bx: float = 1.0, x0=0.0, y0=0.0, initial=N
         raise ValueError(f"initial must be 5 finite values (by, bz, ω2, φ2, κ2), got {q.tolist()}")
     r1 = _image_vectors(a, c, x0, y0)
     x2 = _image_vectors(b2, c, x0, y0)
-    converged, it, scale = False, 0, abs(bx)
+
+    def rays(q):
+        return r1, x2 @ rotation_opk(*q[2:]).T
+
+    q, it, converged = _coplanarity_gauss_newton(
+        lambda q: coplanarity_residuals(q, r1, x2, bx, c), rays, q, tol, max_iter, check,
+        shifts=2, scale=abs(bx), what="(by, bz, ω2, φ2, κ2)", name="relative orientation")
+    f, J = coplanarity_residuals(q, r1, x2, bx, c)
+    R2 = rotation_opk(*q[2:])
+    base = np.array([bx, q[0], q[1]])
+    model, sigma0, cov, red = _oriented_model(a, b2, f, J, np.eye(3), base, R2, c, x0, y0,
+                                              converged, bx)
+    return RelativeOrientation(base=base, R2=R2, omega=float(q[2]), phi=float(q[3]),
+                               kappa=float(q[4]), model=model, residuals=f,
+                               sigma0=sigma0, covariance=cov, iterations=it,
+                               converged=converged, redundancy=red)
+
+
+def _coplanarity_gauss_newton(residuals, rays, q, tol, max_iter, check, *, shifts, scale,
+                              what, name):
+    """Gauss–Newton on coplanarity residuals: ``q`` updated until the largest step is below tol.
+
+    ``residuals(q) -> (f, J)``; ``rays(q) -> (r1, r2)`` the rotated rays (for the diagnosis of
+    a singular design); the first ``shifts`` unknowns are base components (tolerance scaled by
+    ``scale``), the rest angles. Returns ``(q, iterations, converged)``.
+    """
+    converged, it, dq = False, 0, np.zeros_like(q)
     for it in range(1, max_iter + 1):
-        f, J = coplanarity_residuals(q, r1, x2, bx, c)
+        f, J = residuals(q)
         sv = np.linalg.svd(J, compute_uv=False)
         if sv[-1] <= 1e-10 * sv[0] or not sv[0] > 0:
-            r2 = x2 @ rotation_opk(*q[2:]).T
+            r1, r2 = rays(q)
             sin = np.linalg.norm(np.cross(r1, r2), axis=1) / (
                 np.linalg.norm(r1, axis=1) * np.linalg.norm(r2, axis=1))
             if np.max(sin) <= 1e-9:
@@ -171,32 +202,39 @@ def relative_orientation(xy1, xy2, c, bx: float = 1.0, x0=0.0, y0=0.0, initial=N
                     "zero parallax: every pair of rays is parallel (largest angle "
                     f"{np.max(sin):.3g} rad), so xy1 and xy2 are the same image up to a rotation "
                     "and there is no base to orient (identical images, or the two exposures "
-                    "from one point); the relative orientation needs x-parallaxes")
+                    f"from one point); the {name} needs x-parallaxes")
             raise DegenerateGeometryError(
-                "the coplanarity equations do not determine (by, bz, ω2, φ2, κ2): the points "
-                f"are badly distributed (condition {sv[0] / max(sv[-1], 1e-300):.3g}); use ≥ 5 "
-                "points spread over the overlap, not on one line")
+                f"the coplanarity equations do not determine {what}: the points are badly "
+                f"distributed or lie on a critical surface (condition "
+                f"{sv[0] / max(sv[-1], 1e-300):.3g}); use ≥ 5 points spread over the overlap, "
+                "not on one line, and not on a circular cylinder with its axis parallel to the "
+                "base through both projection centres (the critical surface)")
         dq = np.linalg.lstsq(J, -f, rcond=None)[0]
         if not np.all(np.isfinite(dq)):
-            raise ConvergenceError(f"relative orientation diverged in iteration {it}")
+            raise ConvergenceError(f"{name} diverged in iteration {it}")
         q = q + dq
-        if np.max(np.abs(dq[:2])) <= tol * scale and np.max(np.abs(dq[2:])) <= tol:
+        if (np.max(np.abs(dq[:shifts]), initial=0.0) <= tol * scale
+                and np.max(np.abs(dq[shifts:])) <= tol):
             converged = True
             break
     if not converged and check:
-        raise ConvergenceError(f"relative orientation did not converge in {max_iter} "
+        raise ConvergenceError(f"{name} did not converge in {max_iter} "
                                f"iterations (last update {np.max(np.abs(dq)):.3g})")
-    f, J = coplanarity_residuals(q, r1, x2, bx, c)
-    n = len(a)
-    red = n - 5
+    return q, it, converged
+
+
+def _oriented_model(a, b2, f, J, R1, base, R2, c, x0, y0, converged, bx):
+    """σ0, covariance and the model points (forward intersection) of an oriented pair.
+
+    Raises ``PointBehindCameraError`` for the mirror solution: a converged orientation with
+    every intersecting pair of rays behind the cameras (λ ≤ 0; not the parallel ones). The
+    last iterate of ``check=False`` is kept.
+    """
+    red = len(a) - J.shape[1]
     sigma0 = float(np.sqrt(f @ f / red)) if red > 0 else float("nan")
-    cov = (sigma0**2 * np.linalg.inv(J.T @ J)) if red > 0 else np.full((5, 5), np.nan)
-    R2 = rotation_opk(*q[2:])
-    base = np.array([bx, q[0], q[1]])
+    cov = (sigma0**2 * np.linalg.inv(J.T @ J)) if red > 0 else np.full((J.shape[1],) * 2, np.nan)
     inter = forward_intersection(np.stack([a, b2]), np.stack([np.zeros(3), base]),
-                                 np.stack([np.eye(3), R2]), c, x0, y0, return_valid=True)
-    # a converged orientation with every intersecting pair of rays behind the cameras (λ ≤ 0;
-    # not the parallel ones) is the mirror solution: the last iterate of check=False is kept
+                                 np.stack([R1, R2]), c, x0, y0, return_valid=True)
     behind = ~inter.valid & (inter.angle >= 1e-6)
     if converged and behind.any() and not inter.valid.any():
         raise PointBehindCameraError(
@@ -204,10 +242,148 @@ def relative_orientation(xy1, xy2, c, bx: float = 1.0, x0=0.0, y0=0.0, initial=N
             f"all {int(behind.sum())} model points with intersecting rays lie behind the cameras: "
             f"image 2 is on the other side of image 1 than bx = {bx:g} says. Flip the sign of "
             "bx, or swap the images (xy1 must be the left image for bx > 0)")
-    return RelativeOrientation(base=base, R2=R2, omega=float(q[2]), phi=float(q[3]),
-                               kappa=float(q[4]), model=inter.points, residuals=f,
-                               sigma0=sigma0, covariance=cov, iterations=it,
-                               converged=converged, redundancy=red)
+    return inter.points, sigma0, cov, red
+
+
+# -- independent relative orientation --------------------------------------------------------------
+
+@dataclass(frozen=True)
+class IndependentRelativeOrientation:
+    """Independent relative orientation from :func:`independent_relative_orientation`."""
+
+    base: np.ndarray  #: (3,) (bx, 0, 0), model unit
+    R1: np.ndarray  #: (3, 3) rotation of image 1, R_φ(φ1)·R_κ(κ1)
+    R2: np.ndarray  #: (3, 3) rotation of image 2, R_ω(ω2)·R_φ(φ2)·R_κ(κ2)
+    phi1: float  #: φ1, radians
+    kappa1: float  #: κ1, radians
+    omega2: float  #: ω2, radians
+    phi2: float  #: φ2, radians
+    kappa2: float  #: κ2, radians
+    model: np.ndarray  #: (N, 3) model coordinates (forward intersection, NaN if invalid)
+    residuals: np.ndarray  #: (N,) coplanarity residual as y-parallax, image unit
+    sigma0: float  #: image unit (NaN for 5 points)
+    covariance: np.ndarray  #: (5, 5) of (φ1, κ1, ω2, φ2, κ2)
+    iterations: int
+    converged: bool
+    redundancy: int  #: N − 5
+
+    @property
+    def params(self) -> np.ndarray:
+        """``(φ1, κ1, ω2, φ2, κ2)``."""
+        return np.array([self.phi1, self.kappa1, self.omega2, self.phi2, self.kappa2])
+
+
+def independent_coplanarity_residuals(q, x1, x2, c):
+    """Residuals ``det[b, R1·x*1, R2·x*2]/(bx·c)`` with b = (bx, 0, 0), and the Jacobian (N, 5).
+
+    ``q = (φ1, κ1, ω2, φ2, κ2)``; ``x1``, ``x2`` (N, 3) image vectors. With b along x the
+    determinant over bx is the x component of ``R1·x*1 × R2·x*2``, so bx drops out.
+    """
+    R1, dR1 = _rotation_derivatives(0.0, q[0], q[1])
+    R2, dR2 = _rotation_derivatives(*q[2:])
+    r1, r2 = x1 @ R1.T, x2 @ R2.T
+    f = np.cross(r1, r2)[:, 0] / c
+    J = np.empty((len(x1), 5))
+    J[:, 0] = np.cross(x1 @ dR1[1].T, r2)[:, 0] / c
+    J[:, 1] = np.cross(x1 @ dR1[2].T, r2)[:, 0] / c
+    for j, D in enumerate(dR2):
+        J[:, 2 + j] = np.cross(r1, x2 @ D.T)[:, 0] / c
+    return f, J
+
+
+def independent_relative_orientation(xy1, xy2, c, bx: float = 1.0, x0=0.0, y0=0.0,
+                                     initial=None, *, tol: float = 1e-12, max_iter: int = 30,
+                                     check: bool = True) -> IndependentRelativeOrientation:
+    r"""Independent relative orientation (unabhängige Bildpaare) of a stereo pair.
+
+    The base is fixed along the model x axis, ``b = (bx, 0, 0)``, image 1 at the origin; both
+    images rotate: ``R1 = R_φ(φ1)·R_κ(κ1)`` (ω1 = 0, a rotation about the base changes no ray
+    plane) and ``R2 = R_ω(ω2)·R_φ(φ2)·R_κ(κ2)``. Five unknowns (φ1, κ1, ω2, φ2, κ2), one
+    coplanarity equation per point: at least 5 points.
+
+    Parameters
+    ----------
+    xy1, xy2 : array_like, shape (N, 2)
+        Corresponding image points (image unit), N ≥ 5.
+    c : float
+        Camera constant > 0 of both images (image unit).
+    bx : float
+        Base length (model unit), ≠ 0; it sets the model scale and its sign the side of image 2.
+    x0, y0 : float
+        Principal point of both images.
+    initial : array_like, shape (5,), optional
+        Start (φ1, κ1, ω2, φ2, κ2); default zeros (near the normal case).
+    tol, max_iter, check
+        Stop when the largest update is below ``tol`` (radians). Not reaching it raises
+        ``ConvergenceError`` unless ``check=False``.
+
+    Returns
+    -------
+    IndependentRelativeOrientation
+
+    Raises
+    ------
+    DegenerateGeometryError
+        Zero parallax, or points that do not determine the five angles (on one line, or on the
+        critical cylinder: axis parallel to the base, through both projection centres).
+    PointBehindCameraError
+        The mirror solution: every model point behind the cameras (swap the images or flip bx).
+    ConvergenceError
+        No convergence within ``max_iter`` (unless ``check=False``).
+
+    Notes
+    -----
+    Gauss–Newton on the coplanarity condition (derived in
+    :func:`photolib.derive.stereo.independent_coplanarity`), scaled to a y-parallax:
+
+    .. math:: v_i = rac{\det[\,b,\; R_1 x^*_{1i},\; R_2 x^*_{2i}\,]}{b_x\,c}
+              = rac{(R_1 x^*_{1i} 	imes R_2 x^*_{2i})_x}{c}
+
+    The dependent form (:func:`relative_orientation`) sees the same pair: its model is this one
+    rotated by R1ᵀ about image 1 and scaled by its base length over bx.
+
+    Examples
+    --------
+    >>> X = np.array([[0, 0, -10], [2, 1, -11], [-1, 2, -9], [1, -2, -10.5], [3, 3, -12],
+    ...               [-2, -1, -10.0]])
+    >>> R1, R2 = rotation_opk(0.0, 0.02, -0.01), rotation_opk(0.01, -0.02, 0.03)
+    >>> xy1 = project(X, [0, 0, 0], R1, 50.0)
+    >>> xy2 = project(X, [1.0, 0.0, 0.0], R2, 50.0)
+    >>> ro = independent_relative_orientation(xy1, xy2, 50.0, bx=1.0)
+    >>> np.round(ro.params, 9).tolist(), ro.converged
+    ([0.02, -0.01, 0.01, -0.02, 0.03], True)
+    """
+    a, b2 = as_point_pairs(xy1, xy2, (2, 2), ("xy1", "xy2"), 5,
+                           "independent relative orientation",
+                           "point pairs (5 unknowns: φ1, κ1, ω2, φ2, κ2)")
+    c = as_scalar(c, "c", positive=True)
+    bx = as_scalar(bx, "bx")
+    if bx == 0:
+        raise ValueError("bx must be ≠ 0: it fixes the scale of the model")
+    x0, y0 = as_scalar(x0, "x0"), as_scalar(y0, "y0")
+    tol, max_iter = as_tolerance(tol), as_max_iter(max_iter)
+    q = np.zeros(5) if initial is None else as_float_array(initial, "initial")
+    if q.shape != (5,) or not np.all(np.isfinite(q)):
+        raise ValueError(f"initial must be 5 finite values (φ1, κ1, ω2, φ2, κ2), got {q.tolist()}")
+    x1 = _image_vectors(a, c, x0, y0)
+    x2 = _image_vectors(b2, c, x0, y0)
+
+    def rays(q):
+        return x1 @ rotation_opk(0.0, *q[:2]).T, x2 @ rotation_opk(*q[2:]).T
+
+    q, it, converged = _coplanarity_gauss_newton(
+        lambda q: independent_coplanarity_residuals(q, x1, x2, c), rays, q, tol, max_iter,
+        check, shifts=0, scale=1.0, what="(φ1, κ1, ω2, φ2, κ2)",
+        name="independent relative orientation")
+    f, J = independent_coplanarity_residuals(q, x1, x2, c)
+    R1, R2 = rotation_opk(0.0, q[0], q[1]), rotation_opk(*q[2:])
+    base = np.array([bx, 0.0, 0.0])
+    model, sigma0, cov, red = _oriented_model(a, b2, f, J, R1, base, R2, c, x0, y0,
+                                              converged, bx)
+    return IndependentRelativeOrientation(
+        base=base, R1=R1, R2=R2, phi1=float(q[0]), kappa1=float(q[1]), omega2=float(q[2]),
+        phi2=float(q[3]), kappa2=float(q[4]), model=model, residuals=f, sigma0=sigma0,
+        covariance=cov, iterations=it, converged=converged, redundancy=red)
 
 
 # -- absolute orientation --------------------------------------------------------------------------
