@@ -33,7 +33,8 @@ _EXPORTS = {
     "monoplot": "collinearity", "project": "collinearity",
     # earth curvature and atmospheric refraction of aerial images (chapter 06)
     "earth_curvature_correction": "aerial", "refraction_constant": "aerial",
-    "refraction_correction": "aerial",
+    "refraction_correction": "aerial", "exterior_from_navigation": "aerial",
+    "rotation_body_to_ned": "aerial",
     "ConvergenceReport": "distortion", "Distortion": "distortion",
     "DistortionDivergenceError": "distortion", "OpenCVFit": "distortion",
     "PlumbLineResult": "calibration", "plumb_line": "calibration",

@@ -1,4 +1,4 @@
-"""Earth curvature and atmospheric refraction corrections of aerial image coordinates.
+"""Aerial images: earth curvature, atmospheric refraction and direct georeferencing.
 
 Erdkrümmung und atmosphärische Refraktion; Polish notes: krzywizna Ziemi, refrakcja
 atmosferyczna. Both displace the image of a ground point radially from the nadir of a vertical
@@ -17,6 +17,10 @@ Derived in :mod:`photolib.derive.aerial`:
 
 Units: image coordinates and c in one unit (mm in the course); H, h and R in metres.
 For a near-vertical image only (the nadir at the principal point).
+
+Direct georeferencing (direkte Georeferenzierung, GNSS/IMU): the exterior orientation from the
+antenna position and the attitude of the inertial unit, through the lever arm (Hebelarm) and
+the boresight misalignment (Fehlausrichtung) of the camera (:func:`exterior_from_navigation`).
 """
 
 from __future__ import annotations
@@ -25,8 +29,9 @@ import numpy as np
 
 from photolib._validate import as_points, as_scalar
 
-__all__ = ["EARTH_RADIUS", "earth_curvature_correction", "refraction_constant",
-           "refraction_correction", "refractive_index_icao"]
+__all__ = ["EARTH_RADIUS", "NADIR_MOUNT", "NED_TO_ENU", "earth_curvature_correction",
+           "exterior_from_navigation", "refraction_constant", "refraction_correction",
+           "refractive_index_icao", "rotation_body_to_ned"]
 
 #: mean earth radius, m (IUGG)
 EARTH_RADIUS = 6_371_000.0
@@ -177,3 +182,98 @@ def refraction_correction(xy, c, K):
                          f"got {K!r}")
     out = pts * (1.0 - K * (1.0 + r2 / c**2))
     return out[0] if single else out
+
+
+# -- direct georeferencing ----------------------------------------------------------------------
+
+#: local north-east-down (navigation) → east-north-up (the course's object frame, Z up)
+NED_TO_ENU = np.array([[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, -1.0]])
+
+#: camera → body frame of a nadir camera with x' along the flight direction: the body frame is
+#: x forward, y right, z down (aerospace); the course's camera frame x' right in the image
+#: (= forward), y' up in the image (= left), z out of the back of the camera (= up)
+NADIR_MOUNT = np.diag([1.0, -1.0, -1.0])
+
+
+def rotation_body_to_ned(roll, pitch, heading):
+    """Attitude of the inertial unit: body → north-east-down, ``R_z(ψ)·R_y(θ)·R_x(φ)``.
+
+    Parameters
+    ----------
+    roll, pitch, heading : float
+        Roll φ about the body x axis (forward), pitch θ about y (right), heading ψ about z
+        (down, clockwise from north seen from above), radians: the aerospace z-y-x order.
+
+    Returns
+    -------
+    ndarray, shape (3, 3)
+        Rotates body vectors into the local NED frame.
+
+    Examples
+    --------
+    >>> R = rotation_body_to_ned(0.0, 0.0, np.pi / 2)      # flying east
+    >>> np.round(R @ [1.0, 0.0, 0.0], 12).tolist()          # forward = east
+    [0.0, 1.0, 0.0]
+    """
+    r, p, y = (as_scalar(v, n) for v, n in ((roll, "roll"), (pitch, "pitch"),
+                                              (heading, "heading")))
+    cr, sr, cp, sp_, cy, sy = np.cos(r), np.sin(r), np.cos(p), np.sin(p), np.cos(y), np.sin(y)
+    Rx = np.array([[1.0, 0.0, 0.0], [0.0, cr, -sr], [0.0, sr, cr]])
+    Ry = np.array([[cp, 0.0, sp_], [0.0, 1.0, 0.0], [-sp_, 0.0, cp]])
+    Rz = np.array([[cy, -sy, 0.0], [sy, cy, 0.0], [0.0, 0.0, 1.0]])
+    return Rz @ Ry @ Rx
+
+
+def exterior_from_navigation(antenna, roll, pitch, heading, lever_arm=(0.0, 0.0, 0.0),
+                             boresight=(0.0, 0.0, 0.0), mount=NADIR_MOUNT):
+    """Exterior orientation (X0, R) of a camera from GNSS/IMU (direct georeferencing).
+
+    Parameters
+    ----------
+    antenna : array_like, shape (3,)
+        Position of the GNSS antenna (phase centre) in the object frame (east, north, up), m.
+    roll, pitch, heading : float
+        Attitude of the inertial unit, radians (:func:`rotation_body_to_ned`).
+    lever_arm : array_like, shape (3,)
+        Lever arm / Hebelarm: the vector from the camera's projection centre to the antenna,
+        in the body frame (x forward, y right, z down), m.
+    boresight : array_like, shape (3,)
+        Boresight misalignment / Fehlausrichtung (ω, φ, κ), radians: the small rotation of the
+        real camera frame against the nominal mount, ``R_mount·R_ω·R_φ·R_κ``.
+    mount : array_like, shape (3, 3)
+        Nominal camera → body rotation (default :data:`NADIR_MOUNT`, x' along the flight).
+
+    Returns
+    -------
+    X0 : ndarray, shape (3,)
+        Projection centre, ``X0 = antenna − R_nav·lever_arm`` with ``R_nav = NED_TO_ENU·R_nb``.
+    R : ndarray, shape (3, 3)
+        Camera → object rotation of the conventions, ``R = NED_TO_ENU·R_nb·mount·ΔR``.
+
+    Notes
+    -----
+    A boresight error δ moves the ground point of the principal ray by ``H·δ`` (first order,
+    :func:`photolib.derive.aerial.boresight_ground_shift`): 0.01° at 1000 m is 17 cm, which is
+    why the boresight is calibrated in a test field; a lever-arm error enters X0 one to one.
+
+    Examples
+    --------
+    >>> X0, R = exterior_from_navigation([500.0, 200.0, 1000.0], 0.0, 0.0, 0.0,
+    ...                                  lever_arm=[0.2, 0.0, -1.5])
+    >>> np.round(X0, 9).tolist()            # the antenna is 1.5 m above the camera
+    [500.0, 199.8, 998.5]
+    >>> np.round(R, 12).tolist()            # flying north: x' north, y' west, looking down
+    [[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
+    """
+    from photolib._validate import as_vector3
+    from photolib.rotations import rotation_opk
+
+    antenna = as_vector3(antenna, "antenna")
+    lever = as_vector3(lever_arm, "lever_arm")
+    bore = as_vector3(boresight, "boresight")
+    mount = np.asarray(mount, float)
+    if mount.shape != (3, 3) or not np.allclose(mount @ mount.T, np.eye(3), atol=1e-9) \
+            or not np.linalg.det(mount) > 0:
+        raise ValueError(f"mount must be a 3×3 rotation matrix, got {mount.tolist()}")
+    R_nav = NED_TO_ENU @ rotation_body_to_ned(roll, pitch, heading)
+    return antenna - R_nav @ lever, R_nav @ mount @ rotation_opk(*bore)

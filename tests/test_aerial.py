@@ -118,3 +118,66 @@ def test_icao_index_against_the_standard_atmosphere_table():
 def test_bad_input_is_named(call, match):
     with pytest.raises(ValueError, match=match):
         call()
+
+
+# -- direct georeferencing ------------------------------------------------------------------------
+
+@pytest.mark.parametrize("roll, pitch, heading", [(0.0, 0.0, 0.0), (0.03, -0.02, 1.2),
+                                                  (-0.1, 0.05, -2.8)])
+def test_body_to_ned_is_scipys_zyx(roll, pitch, heading):
+    from scipy.spatial.transform import Rotation
+    expected = Rotation.from_euler("ZYX", [heading, pitch, roll]).as_matrix()
+    np.testing.assert_allclose(pa.rotation_body_to_ned(roll, pitch, heading), expected,
+                               atol=1e-15)
+
+
+def test_direct_georeferencing_reproduces_the_camera_that_took_the_image():
+    """An aircraft pose → antenna and IMU readings → (X0, R): the same image of ground points."""
+    from scipy.spatial.transform import Rotation
+
+    import photolib as pl
+    rng = np.random.default_rng(8)
+    roll, pitch, heading = 0.02, -0.015, 0.7
+    lever = np.array([0.35, -0.1, -1.8])               # antenna forward, left, above the camera
+    bore = np.array([0.002, -0.001, 0.003])
+    camera = np.array([1200.0, -300.0, 950.0])
+    R_nb = Rotation.from_euler("ZYX", [heading, pitch, roll]).as_matrix()
+    ned_to_enu = np.array([[0, 1, 0], [1, 0, 0], [0, 0, -1.0]])
+    antenna = camera + ned_to_enu @ R_nb @ lever        # where the GNSS sees the antenna
+    # the real camera frame, built here: x' forward, y' left, z up, then the small misalignment
+    bore_R = Rotation.from_euler("XYZ", bore).as_matrix()   # intrinsic X-Y-Z = R_ω·R_φ·R_κ
+    R_true = ned_to_enu @ R_nb @ np.diag([1.0, -1, -1]) @ bore_R
+    X0, R = pa.exterior_from_navigation(antenna, roll, pitch, heading, lever, bore)
+    np.testing.assert_allclose(X0, camera, atol=1e-9)
+    np.testing.assert_allclose(R, R_true, atol=1e-14)
+    ground = np.column_stack([rng.uniform(900, 1500, 30), rng.uniform(-600, 0, 30),
+                              rng.uniform(0, 40, 30)])
+    np.testing.assert_allclose(pl.project(ground, X0, R, 100.0),
+                               pl.project(ground, camera, R_true, 100.0), atol=1e-12)
+
+
+def test_a_boresight_error_shifts_the_ground_by_H_delta():
+    import photolib as pl
+    exact, first = da.boresight_ground_shift()
+    assert [str(f) for f in first] == ["-H*delta_phi", "H*delta_omega"]
+    H, d = 1000.0, np.radians(0.01)
+    X0, R = pa.exterior_from_navigation([0.0, 0.0, H], 0.0, 0.0, 0.0)
+    X0e, Re = pa.exterior_from_navigation([0.0, 0.0, H], 0.0, 0.0, 0.0, boresight=(d, 0, 0))
+    principal = pl.monoplot([0.0, 0.0], X0, R, 100.0, 0.0)
+    shifted = pl.monoplot([0.0, 0.0], X0e, Re, 100.0, 0.0)
+    shift = np.linalg.norm(shifted - principal)
+    assert shift == pytest.approx(H * d, rel=1e-6)            # 17 cm, as the docstring says
+    assert round(shift, 2) == 0.17
+
+
+@pytest.mark.parametrize("kw, match", [
+    (dict(antenna=[1.0, 2.0]), "antenna"),
+    (dict(lever_arm=[0.0, np.nan, 0.0]), "lever_arm"),
+    (dict(mount=np.diag([1.0, 1.0, -1.0])), "mount must be a 3×3 rotation"),
+    (dict(roll=float("inf")), "roll"),
+])
+def test_georeferencing_bad_input_is_named(kw, match):
+    args = dict(antenna=[0.0, 0.0, 1000.0], roll=0.0, pitch=0.0, heading=0.0)
+    args.update(kw)
+    with pytest.raises(ValueError, match=match):
+        pa.exterior_from_navigation(**args)

@@ -86,3 +86,25 @@ def refraction_constant_first_order():
     d_tan_chord = sp.integrate(sp.simplify(slope), (z, h, H)) / (H - h)
     d_alpha = -g * d_tan_chord / (1 + t**2)                   # d atan(u) = du/(1 + u²)
     return sp.simplify(mean_excess), sp.simplify(d_alpha / t)
+
+
+def boresight_ground_shift():
+    """Ground shift of the principal ray of a nadir camera at height H by a boresight (δω, δφ, δκ).
+
+    The ray ``X0 + λ·R_ω(δω)·R_φ(δφ)·R_κ(δκ)·(0, 0, −1)`` from ``X0 = (0, 0, H)`` meets the
+    ground Z = 0; returns the exact (X, Y) and their first-order terms.
+
+    >>> exact, first = boresight_ground_shift()
+    >>> first
+    [-H*delta_phi, H*delta_omega]
+    """
+    from photolib.derive.rotation import rotation_opk
+    dw, dp, dk = sp.symbols("delta_omega delta_phi delta_kappa", real=True)
+    ray = rotation_opk(dw, dp, dk) * sp.Matrix([0, 0, -1])
+    lam = -H / ray[2]
+    ground = sp.Matrix([0, 0, H]) + lam * ray
+    exact = [sp.simplify(g) for g in ground[:2]]
+    eps_ = sp.symbols("epsilon_b")
+    scaled = [e.subs({dw: eps_ * dw, dp: eps_ * dp, dk: eps_ * dk}) for e in exact]
+    first = [sp.series(e, eps_, 0, 2).removeO().subs(eps_, 1) for e in scaled]
+    return exact, [sp.simplify(f) for f in first]
