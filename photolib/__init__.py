@@ -34,6 +34,9 @@ _EXPORTS = {
     # earth curvature and atmospheric refraction of aerial images (chapter 06)
     "earth_curvature_correction": "aerial", "refraction_constant": "aerial",
     "refraction_correction": "aerial", "exterior_from_navigation": "aerial",
+    # area-based matching (NCC) and RANSAC (chapter 11)
+    "ncc_match": "correlation", "normalised_cross_correlation": "correlation",
+    "ransac": "correlation", "ransac_trials": "correlation",
     "rotation_body_to_ned": "aerial",
     "ConvergenceReport": "distortion", "Distortion": "distortion",
     "DistortionDivergenceError": "distortion", "OpenCVFit": "distortion",
