@@ -44,6 +44,7 @@ def _rows(path: Path) -> list[dict]:
 
 
 # -- point 6: no output in a submissions folder ----------------------------------------------
+@pytest.mark.slow  # grading commands of their own (imports: seconds each)
 def test_an_output_path_in_a_submissions_folder_is_refused(tmp_path):
     subs = tmp_path / "subs"
     (subs / "deeper").mkdir(parents=True)
@@ -61,6 +62,7 @@ def test_an_output_path_in_a_submissions_folder_is_refused(tmp_path):
 
 
 # -- point 7: the chapter by majority; duplicate ids -------------------------------------------
+@pytest.mark.slow  # grading commands of their own (imports: seconds each)
 def test_a_tie_of_chapters_is_refused_with_the_list(tmp_path):
     # missing files: the chapter is decided on the names before anything is read or run
     a, b = tmp_path / "subs" / "a-02-optics.ipynb", tmp_path / "subs" / "b-00-start.ipynb"
