@@ -26,8 +26,9 @@ __all__ = ["FunctionOutputs", "Judgement", "compare", "judge", "propagated_atol"
 class Judgement:
     """Verdict on one answer.
 
-    ``status`` is ``"correct"``, ``"wrong"`` or ``"not-answered"``; ``mistake`` is the tag of
-    a recognised mistake (or ``None``); ``message`` is what the student reads.
+    ``status`` is ``"correct"``, ``"wrong"``, ``"not-answered"`` or ``"not-graded"`` (the
+    notebook has no usable student id, hence no variant of its own); ``mistake`` is the tag
+    of a recognised mistake (or ``None``); ``message`` is what the student reads.
     """
 
     exercise_id: str

@@ -1,7 +1,9 @@
 """Writing grades: the gradebook CSV, one Markdown feedback file per student, a summary.
 
 The gradebook has the columns ``submission, student_id, status, chapter, total, max_total``,
-one column per exercise (points) and ``detail`` (why a status is not ``ok``). Rows are
+one column per exercise (points) and ``detail`` (why a status is not ``ok``). Two rows with
+the same student id both show the status ``duplicate-id`` (points kept, the detail names the
+other row and the status graded); the sidecar keeps the graded status. Rows are
 appended and flushed as submissions finish; ``<gradebook>.details.jsonl`` keeps each row's
 verdicts so a rerun can skip graded submissions and still summarise every mistake. A
 regraded submission (``--force``) replaces its own row and keeps all others. Text cells are
@@ -136,6 +138,7 @@ class Gradebook:
         self.columns = BASE_COLUMNS + list(exercise_ids) + ["detail"]
         self.done: dict[str, dict] = {}
         self._rows: dict[str, list] = {}
+        self._ids: dict[str, set] = {}  # student id -> keys of its rows
         for p in (self.path, self.details_path):
             if p.is_symlink():
                 raise ValueError(f"{p} is a symbolic link; give the gradebook's real path")
@@ -164,8 +167,63 @@ class Gradebook:
                     keys = [self.key(row[0].removeprefix("'")) for row in rows]
                 self._rows = dict(zip(keys, rows))
                 self.done = {record["submission"]: record for record in records}
+                for key, record in self.done.items():
+                    row = self._rows.get(key)
+                    if row is not None and "detail" in record:  # as graded, not as flagged
+                        row[2] = csv_cell(record["status"], 40)
+                        row[-1] = csv_cell(record["detail"])
+                    self._index(key, record.get("student_id"))
                 return
         self._rewrite()
+
+    def _index(self, key: str, student_id) -> None:
+        if student_id:
+            self._ids.setdefault(student_id, set()).add(key)
+
+    def _partners(self, key: str) -> list[str]:
+        """The other rows with the student id of row ``key``."""
+        sid = self.done.get(key, {}).get("student_id")
+        return sorted(k for k in self._ids.get(sid, ()) if k != key) if sid else []
+
+    def _shown(self, key: str) -> list:
+        """Row ``key`` as written: ``duplicate-id`` when another row has its student id.
+
+        The status and detail it was graded with stay in the sidecar, so the flag goes as
+        soon as the other row does (regraded with a corrected id, ``--force``).
+        """
+        row = self._rows[key]
+        partners = self._partners(key)
+        if not partners:
+            return row
+        record = self.done[key]
+        names = ", ".join(Path(p).name for p in partners[:3])
+        more = f" and {len(partners) - 3} more" if len(partners) > 3 else ""
+        detail = record.get("detail", "")
+        note = (f"student id {record['student_id']} is also the id of {names}{more}: check "
+                f"both against the roster; graded {record['status']}"
+                + (f": {detail}" if detail else ""))
+        return [*row[:2], "duplicate-id", *row[3:-1], csv_cell(note)]
+
+    def forget(self, submissions) -> None:
+        """Remove the rows of ``submissions`` (``--force``: they are graded afresh).
+
+        Removed at the start, not as each is regraded, so that a forced run stopped
+        half-way leaves no stale row that a resumed run would skip.
+        """
+        keys = [k for k in map(self.key, submissions) if k in self._rows or k in self.done]
+        if not keys:
+            return
+        for key in keys:
+            record = self.done.pop(key, None)
+            if record is not None:
+                self._ids.get(record.get("student_id"), set()).discard(key)
+            self._rows.pop(key, None)
+        self._rewrite()
+
+    def records(self) -> list[dict]:
+        """The sidecar records with the status as written (``duplicate-id`` where flagged)."""
+        return [dict(r, status="duplicate-id") if self._partners(k) else r
+                for k, r in self.done.items()]
 
     def key(self, submission) -> str:
         return str(Path(submission).resolve())
@@ -179,7 +237,7 @@ class Gradebook:
         table = io.StringIO(newline="")
         writer = csv.writer(table)
         writer.writerow(self.columns)
-        writer.writerows(self._rows.values())
+        writer.writerows(self._shown(key) for key in self._rows)
         write_private(self.path, table.getvalue())
         write_private(self.details_path,
                       "".join(json.dumps(r) + "\n" for r in self.done.values()))
@@ -195,12 +253,16 @@ class Gradebook:
         key = self.key(graded.submission)
         record = {"submission": key, "student_id": graded.student_id,
                   "status": graded.status, "chapter": graded.chapter,
+                  "detail": _one_line(graded.detail),
                   "verdicts": [{"id": j.exercise_id, "status": j.status, "mistake": j.mistake,
                                 "points": j.points} for j in graded.judgements]}
         replace = key in self._rows or key in self.done
+        if key in self.done:
+            self._ids.get(self.done[key].get("student_id"), set()).discard(key)
         self._rows[key] = row
         self.done[key] = record
-        if replace:
+        self._index(key, graded.student_id)
+        if replace or self._partners(key):  # other rows change too: flagged or no longer
             self._rewrite()
             return
         line = io.StringIO(newline="")

@@ -35,6 +35,7 @@ import signal
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -68,6 +69,9 @@ RESULT_MIME = "application/x-photolib-grading+json"
 #: largest message frame the grader reads from a kernel (``zmq.MAXMSGSIZE``); a larger one is
 #: dropped unread (the socket is reconnected), so a kernel cannot inflate the grader's memory
 MAX_MESSAGE_BYTES = 16 * 1024 * 1024
+#: seconds a kernel interrupted at a time limit has to end the cell; one that is still busy
+#: after that (its code swallowed the ``KeyboardInterrupt``) is reported ``stuck``
+INTERRUPT_GRACE = 3.0
 
 
 @dataclass(frozen=True)
@@ -305,7 +309,9 @@ class ExecResult:
     ``status`` is ``"ok"``, ``"error"`` (the code raised), ``"timeout"`` or ``"dead"`` (the
     kernel died). ``payloads`` are the data of display messages of type :data:`RESULT_MIME`.
     ``dropped`` counts characters of output not kept, ``oversized`` messages over
-    :data:`MAX_MESSAGE_BYTES` that were dropped unread.
+    :data:`MAX_MESSAGE_BYTES` that were dropped unread. ``stuck`` is true for a timeout
+    after which the cell had not ended :data:`INTERRUPT_GRACE` seconds after the interrupt:
+    the kernel is still busy with it and will run nothing else.
     """
 
     status: str
@@ -314,6 +320,7 @@ class ExecResult:
     dropped: int = 0
     payloads: list = field(default_factory=list)
     oversized: int = 0
+    stuck: bool = False
 
 
 
@@ -351,6 +358,8 @@ class SandboxedKernel:
         self._context = None
         self._monitors = []
         self._kept = 0
+        self._killed = False
+        self._shutdown_lock = threading.Lock()
 
     # -- life cycle -----------------------------------------------------------------------
     def _command(self) -> list[str]:
@@ -439,6 +448,9 @@ class SandboxedKernel:
         km.sandbox_cmd = self._command()
         km.start_kernel(cwd=str(self.workdir), env=self._env(home))
         self.km = km
+        if self._killed:  # kill() came while the kernel was being launched
+            self.kill()
+            raise RuntimeError("the kernel was killed while it started")
         kc = km.blocking_client()
         # a context of our own: every socket it makes refuses frames over MAX_MESSAGE_BYTES
         # (the limit must be set before the socket connects)
@@ -477,8 +489,36 @@ class SandboxedKernel:
                 pass
         return broken
 
+    def kill(self) -> None:
+        """SIGKILL the kernel and every process of its tree now; callable from any thread.
+
+        For a batch that is stopped (Ctrl-C): whatever the kernel runs ends at once (also a
+        cell that swallows interrupts), and the thread using the kernel sees it dead within
+        a poll. :meth:`shutdown` still removes the cgroup, the user's leftovers and the
+        sockets; a kernel being launched is killed as soon as its process exists.
+        """
+        self._killed = True
+        km = self.km
+        process = getattr(getattr(km, "provisioner", None), "process", None)
+        if process is not None and process.poll() is None:
+            for kill in (os.killpg, os.kill):  # its own session: the group is the kernel's
+                try:
+                    kill(process.pid, signal.SIGKILL)
+                except OSError:
+                    pass
+        cgroup, uid = self.cgroup, self.uid
+        if cgroup is not None:
+            cgroup.kill()
+        if uid is not None:  # two rounds, no waiting: shutdown() repeats until none is left
+            kill_user(uid, rounds=2)  # (the kernel's zombie stays until its thread reaps it)
+
     def shutdown(self) -> None:
-        """Stop the kernel and every process it left behind; safe to call twice."""
+        """Stop the kernel and every process it left behind; safe to call twice, and from
+        two threads at once (the second waits for the first, then has nothing to do)."""
+        with self._shutdown_lock:
+            self._shutdown()
+
+    def _shutdown(self) -> None:
         for sock, _, monitor in self._monitors:
             try:
                 sock.disable_monitor()
@@ -537,7 +577,8 @@ class SandboxedKernel:
     def execute(self, code: str, timeout: float, silent: bool = False) -> ExecResult:
         """Run ``code``; collect at most ``output_bytes`` of text and the result payloads.
 
-        On timeout the kernel is interrupted (SIGINT) and given 3 s to come back. A message
+        On timeout the kernel is interrupted (SIGINT) and given :data:`INTERRUPT_GRACE`
+        seconds to come back (else the result is ``stuck``). A message
         over :data:`MAX_MESSAGE_BYTES` breaks its connection: the channel is reconnected and
         counted in ``oversized``; as messages sent meanwhile are lost (the final ``idle``
         status among them), the shell's ``execute_reply`` ends the wait as well.
@@ -555,7 +596,8 @@ class SandboxedKernel:
                 self.km.interrupt_kernel()
                 interrupted_at = now
                 result.status, result.error = "timeout", f"time limit {timeout:.0f} s"
-            if interrupted_at is not None and now > interrupted_at + 3.0:
+            if interrupted_at is not None and now > interrupted_at + INTERRUPT_GRACE:
+                result.stuck = replied_at is None
                 return result
             result.oversized += self._reconnect_dropped()
             if replied_at is None:

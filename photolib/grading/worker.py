@@ -22,9 +22,13 @@ import threading
 import time
 from pathlib import Path
 
-__all__ = ["JudgePool"]
+__all__ = ["Cancelled", "JudgePool"]
 
 _HEADER = struct.Struct("!Q")
+
+
+class Cancelled(RuntimeError):
+    """The batch was stopped (Ctrl-C): the submission being graded is abandoned, no row."""
 
 
 def _vm_bytes() -> int:
@@ -192,9 +196,13 @@ class JudgePool:
         def failed(message, mistake):
             return Judgement(ex.id, "wrong", 0.0, float(ex.points), message, mistake)
 
+        if self._closed:
+            raise Cancelled("the batch was stopped")
         worker = self._idle.get()
         keep = None
         try:
+            if self._closed:  # aborted while this thread waited for a worker
+                raise Cancelled("the batch was stopped")
             if worker is None or not worker.alive():
                 self._drop(worker)
                 worker = self._new()
@@ -224,7 +232,21 @@ class JudgePool:
                 self._drop(worker)
                 self._idle.put(None)
 
+    def abort(self) -> None:
+        """Kill every worker now (the batch was stopped); later :meth:`judge` calls raise
+        :class:`Cancelled`, one under way ends with a "judge-died" verdict nobody keeps."""
+        self._closed = True
+        with self._lock:
+            workers = list(self._all)
+        for worker in workers:
+            if worker.alive():
+                try:
+                    worker.process.kill()
+                except OSError:
+                    pass
+
     def close(self) -> None:
+        """Stop every worker (those judging an answer too) and wait for each to end."""
         self._closed = True
         with self._lock:
             workers = list(self._all)

@@ -48,9 +48,10 @@ def test_master_gets_full_marks(graded, path):
 def test_untouched_copy_gets_zero_without_errors(graded, path):
     r = graded[str(path)]
     assert r.status == "no-student-id", r.detail  # ran top to bottom, only the id is missing
-    assert r.detail == ""
+    assert r.detail.startswith("STUDENT_ID is empty; not graded"), r.detail
+    assert "cell " not in r.detail, r.detail
     assert r.total == 0 and r.max_total > 0
-    assert {j.status for j in r.judgements} == {"not-answered"}
+    assert {j.status for j in r.judgements} == {"not-graded"}
 
 
 @pytest.mark.parametrize("path", COPIES, ids=lambda p: p.name)

@@ -82,6 +82,16 @@ for name in {[str(f) for f in SHM_FILES]!r}:
         f.write(b"x" * (60 << 20))
 """
 
+#: a loop that swallows the KeyboardInterrupt of the time limit (a bare except)
+SWALLOW = """
+import time
+while True:
+    try:
+        time.sleep(1)
+    except:
+        pass
+"""
+
 HUGE_MESSAGES = """
 from IPython.display import publish_display_data
 for _ in range(3):
@@ -175,7 +185,8 @@ def _variants(master, untouched, sandbox_dir: Path):
     duplicated.cells.insert(i, copy.deepcopy(duplicated.cells[i]))
     duplicated.cells[i]["id"] = "a-copy"
     out["duplicated-cell"] = duplicated
-    out["duplicate-ids"] = "DUPLICATE-IDS"
+    text = MASTER.read_text(encoding="utf-8").replace('"id": "demo-', '"id": "same')
+    out["duplicate-ids"] = __import__("re").sub(r'"id": "same\d+"', '"id": "same"', text)
     out["import-formula"] = with_cell(
         untouched, 'STUDENT_ID = "demo-student"\n'
                    f"R_omega_sym = \"__import__('os').system('touch {sandbox_dir}/formula')\"")
@@ -205,8 +216,18 @@ def _variants(master, untouched, sandbox_dir: Path):
     out["sid-newline"] = _with_id(master, "demo-student\\n")
     out["sid-formula"] = _with_id(master, "+B2")
     out["sid-change"] = with_cell(master, 'STUDENT_ID = "someone-else"')
-    out["sibling-files"] = with_cell(master, "import os\nassert 'big.bin' not in os.listdir('.')\n"
-                                             "open('other-student.IPYNB')")
+    # the kernel's folder holds its own notebook and nothing else of the submissions' folder
+    out["sibling-files"] = with_cell(master, "import os\nassert os.listdir('.') == "
+                                             "['sibling-files-00-start.ipynb'], os.listdir('.')")
+    out["swallowed-interrupt"] = with_cell(master, SWALLOW)
+    empty = copy.deepcopy(master)
+    empty.cells[cell_index(empty, "student-id")].source = 'STUDENT_ID = ""'
+    out["empty-id"] = empty
+    no_id = copy.deepcopy(master)
+    del no_id.cells[cell_index(no_id, "student-id")]
+    out["missing-id"] = no_id
+    out["twin-a"] = copy.deepcopy(master)  # two submissions under one id: both rows flagged
+    out["twin-b"] = copy.deepcopy(master)
     wrong = copy.deepcopy(master)
     wrong.metadata["photolib"] = {"chapter": "02-optics"}
     out["wrong-chapter"] = wrong
@@ -228,6 +249,32 @@ def _variants(master, untouched, sandbox_dir: Path):
     return out
 
 
+def _own_ids(variants):
+    """Each variant under an id of its own (``demo-<name>``), with its correct choice.
+
+    One gradebook flags every row whose student id occurs twice (``duplicate-id``), so the
+    corpus may share an id only where that is tested (the twins). The demo master's choice
+    answer is that of ``demo-student``; each id gets the letter its own variant needs.
+    """
+    from photolib.grading.exercises import exercise
+    from photolib.grading.notebook import parameters_for
+    choice = exercise("demo.inverse-choice")
+    out = {}
+    for name, nb in variants.items():
+        sid = "demo-twin" if name.startswith("twin-") else f"demo-{name}"
+        key = choice.reference(parameters_for(choice, sid))
+        if isinstance(nb, str):
+            nb = nb.replace("demo-student", sid).replace('choice_inverse = \\"d\\"',
+                                                         f'choice_inverse = \\"{key}\\"')
+        else:
+            nb = copy.deepcopy(nb)
+            for cell in nb.cells:
+                cell.source = cell.source.replace("demo-student", sid).replace(
+                    'choice_inverse = "d"', f'choice_inverse = "{key}"')
+        out[name] = nb
+    return out
+
+
 def _with_id(nb, sid):
     nb = copy.deepcopy(nb)
     nb.cells[cell_index(nb, "student-id")].source = f'STUDENT_ID = "{sid}"'
@@ -240,31 +287,32 @@ def corpus(tmp_path_factory, master, untouched):
     outside = tmp_path_factory.mktemp("outside")
     os.chmod(outside, 0o700)
     paths = {}
-    for name, nb in _variants(master, untouched, outside).items():
+    for name, nb in _own_ids(_variants(master, untouched, outside)).items():
         path = folder / f"{name}-00-start.ipynb"
-        if nb == "DUPLICATE-IDS":
-            text = MASTER.read_text(encoding="utf-8").replace('"id": "demo-', '"id": "same')
-            text = __import__("re").sub(r'"id": "same\d+"', '"id": "same"', text)
-            path.write_text(text, encoding="utf-8")
-        elif isinstance(nb, str):
+        if isinstance(nb, str):
             path.write_text(nb, encoding="utf-8")
         else:
             nbformat.write(nb, path)
         paths[name] = path
-    # siblings in the submissions' folder: a sparse 1 GiB file (no disk blocks) and another
-    # student's notebook with an upper-case suffix; neither may reach a kernel
+    # siblings in the submissions' folder: a sparse 1 GiB file (no disk blocks), another
+    # student's notebook with an upper-case suffix and other students' files; none may reach
+    # a kernel
     with open(folder / "big.bin", "wb") as f:
         f.truncate(1 << 30)
     nbformat.write(master, folder / "other-student.IPYNB")
+    (folder / "other-student-data.csv").write_text("x,y\n1,2\n")
+    (folder / "notes").mkdir()
+    (folder / "notes" / "other-student.md").write_text("answers")
     judge_before = JUDGE.read_text(encoding="utf-8")
-    out = folder / "gradebook.csv"
+    book = tmp_path_factory.mktemp("book")  # never in the submissions' folder (refused)
+    out = book / "gradebook.csv"
     # the same file twice, by another path: graded once
     twice = folder / ".." / folder.name / paths["normal"].name
     # a separate grader process, as an instructor runs it
     grader = subprocess.Popen([sys.executable, "-m", "photolib", "grade",
                                *map(str, paths.values()), str(twice),
                                "--out", str(out), "--jobs", "2", "--timeout", str(TIMEOUT),
-                               "--memory", "1536", "--feedback", str(folder / "feedback"),
+                               "--memory", "1536", "--feedback", str(book / "feedback"),
                                "--no-progress"], cwd=ROOT, stdout=subprocess.PIPE,
                               stderr=subprocess.PIPE, text=True,
                               env=dict(os.environ, PYTHONPATH=str(ROOT)))
@@ -279,6 +327,7 @@ def corpus(tmp_path_factory, master, untouched):
         listed = list(csv.DictReader(f))
     rows = {Path(r["submission"]).name.split("-00-")[0]: r for r in listed}
     yield {"rows": rows, "outside": outside, "judge_before": judge_before, "folder": folder,
+           "book": book,
            "paths": paths, "listed": listed, "stderr": done.stderr, "pid": grader.pid}
     LEFT_BEHIND.unlink(missing_ok=True)  # where the sandbox could not remove it
     for path in LEFT_FILES + SHM_FILES:  # the same (1.2 GB of RAM in /dev/shm)
@@ -337,10 +386,15 @@ FULL, ZERO = "11", "0"
     ("zero-d-array", "ok", FULL, ""),
     ("sleepy-function", "ok", "9", ""),
     ("huge-error", "cell-errors", FULL, "fake.ipynb"),
-    ("sid-newline", "no-student-id", "4", "not a usable id"),
-    ("sid-formula", "no-student-id", "4", "not a usable id"),
+    ("sid-newline", "no-student-id", ZERO, "not a usable id"),
+    ("sid-formula", "no-student-id", ZERO, "not a usable id"),
+    ("empty-id", "no-student-id", ZERO, "STUDENT_ID is empty; not graded"),
+    ("missing-id", "no-student-id", ZERO, "defines no STUDENT_ID"),
+    ("twin-a", "duplicate-id", FULL, "is also the id of twin-b-00-start.ipynb"),
+    ("twin-b", "duplicate-id", FULL, "is also the id of twin-a-00-start.ipynb"),
+    ("swallowed-interrupt", "timeout", FULL, "went on after the interrupt"),
     ("sid-change", "ok", FULL, "changed later"),
-    ("sibling-files", "cell-errors", FULL, "big.bin"),
+    ("sibling-files", "ok", FULL, ""),
     ("wrong-chapter", "wrong-chapter", ZERO, "02-optics"),
     ("private-tmp", "ok", FULL, ""),
     ("leftovers", "ok", FULL, ""),
@@ -348,7 +402,7 @@ FULL, ZERO = "11", "0"
     ("fork-memory", "memory-limit", FULL, "went over the memory limit of 1536 MiB"),
     ("shm-fill", "cell-errors", FULL, "No space left on device"),
     ("huge-messages", "ok", FULL, "larger than 16 MiB dropped unread"),
-    ("sid-strsub", "no-student-id", "4", ""),
+    ("sid-strsub", "no-student-id", ZERO, "defines no STUDENT_ID"),
     ("slow-answers", "ok", ZERO, ""),
 ])
 def test_each_submission_ends_as_a_clear_row(corpus, name, status, total, detail):
@@ -393,7 +447,7 @@ def test_formula_with_import_is_not_run(corpus):
     r = row(corpus, "import-formula")
     assert r["demo.rotation-x-symbolic"] == "0"
     assert not (corpus["outside"] / "formula").exists()
-    feedback = "".join(p.read_text() for p in (corpus["folder"] / "feedback").glob("demo-*"))
+    feedback = "".join(p.read_text() for p in (corpus["book"] / "feedback").glob("demo-*"))
     assert "UnsafeExpressionError" in feedback or "symcheck" in feedback
 
 
@@ -405,9 +459,9 @@ def test_no_sandbox_process_survives(corpus):
 
 
 def test_summary_and_feedback_written(corpus):
-    summary = (corpus["folder"] / "feedback" / "summary.md").read_text()
+    summary = (corpus["book"] / "feedback" / "summary.md").read_text()
     assert "demo.rotation-x: " in summary and "not-answered" in summary
-    assert len(list((corpus["folder"] / "feedback").glob("*.md"))) == len(corpus["paths"]) + 1
+    assert len(list((corpus["book"] / "feedback").glob("*.md"))) == len(corpus["paths"]) + 1
 
 
 def _grade(*args):
@@ -417,7 +471,7 @@ def _grade(*args):
 
 
 def test_rerun_skips_graded_and_force_regrades(corpus):
-    folder = corpus["folder"]
+    folder = corpus["book"]
     out = folder / "gradebook.csv"
     before = out.read_text()
     done = _grade(corpus["paths"]["normal"], "--out", out)
@@ -444,9 +498,9 @@ def test_one_bad_answer_costs_its_own_exercise(corpus, name, exercise, message):
 
     from photolib.grading.report import feedback_name
     r = row(corpus, name)
-    assert r["student_id"] == "demo-student" and r[exercise] == "0"
+    assert r["student_id"] == f"demo-{name}" and r[exercise] == "0"
     graded = SimpleNamespace(student_id=r["student_id"], submission=r["submission"])
-    text = (corpus["folder"] / "feedback" / feedback_name(graded)).read_text()
+    text = (corpus["book"] / "feedback" / feedback_name(graded)).read_text()
     lines = [line for line in text.splitlines() if f"`{exercise}`" in line and message in line]
     assert lines, f"no feedback line on {exercise} with {message!r}:\n{text}"
 
@@ -459,8 +513,8 @@ def test_gradebook_rows_are_clean(corpus):
     assert not any(r["submission"] == "fake.ipynb" for r in listed)
     assert {r["chapter"] for r in listed} == {"00-start"}
     assert row(corpus, "wrong-chapter")["max_total"] == FULL
-    assert "big.bin" in row(corpus, "normal")["detail"]
-    assert "not copied" in row(corpus, "normal")["detail"]
+    assert not any(r["student_id"] == "demo-twin" and r["status"] != "duplicate-id"
+                   for r in listed)
 
 
 def test_nothing_is_left_in_shared_places(corpus):
@@ -484,7 +538,7 @@ def test_kernel_cgroups_are_removed(corpus):
 
 
 def test_gradebook_and_feedback_are_private(corpus):
-    folder = corpus["folder"]
+    folder = corpus["book"]
     for path in [folder / "gradebook.csv", folder / "gradebook.csv.details.jsonl",
                  *(folder / "feedback").iterdir()]:
         assert stat.S_IMODE(path.stat().st_mode) == 0o600, path
@@ -498,7 +552,7 @@ def test_the_extraction_is_bounded_by_the_time_limit(corpus):
     from photolib.grading.report import feedback_name
     r = row(corpus, "slow-answers")
     graded = SimpleNamespace(student_id=r["student_id"], submission=r["submission"])
-    text = (corpus["folder"] / "feedback" / feedback_name(graded)).read_text()
+    text = (corpus["book"] / "feedback" / feedback_name(graded)).read_text()
     assert "the submission's time limit was reached" in text, text
     assert "took longer than 5 s" in text
 
@@ -512,8 +566,8 @@ def test_sandbox_files_in_tmp_are_removed(corpus):
 def test_force_regrades_only_the_given_rows(corpus, tmp_path):
     import shutil
     out = tmp_path / "forced.csv"
-    shutil.copy(corpus["folder"] / "gradebook.csv", out)
-    shutil.copy(corpus["folder"] / "gradebook.csv.details.jsonl",
+    shutil.copy(corpus["book"] / "gradebook.csv", out)
+    shutil.copy(corpus["book"] / "gradebook.csv.details.jsonl",
                 tmp_path / "forced.csv.details.jsonl")
     before = list(csv.DictReader(out.read_text().splitlines()))
     done = _grade(corpus["paths"]["not-json"], "--out", out, "--force")

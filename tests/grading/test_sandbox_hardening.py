@@ -103,7 +103,7 @@ def _grade(*args):
 def test_grade_writes_private_files(tmp_path):
     """gradebook, sidecar, feedback folder and summary: 0600 files, 0700 folders."""
     out = tmp_path / "book" / "gb.csv"
-    done = _grade(tmp_path / "absent-00-start.ipynb", "--out", out,
+    done = _grade(tmp_path / "subs" / "absent-00-start.ipynb", "--out", out,
                   "--feedback", tmp_path / "fb")  # a missing file: a row, no kernel
     assert done.returncode == 0, done.stderr
     for path in (out, tmp_path / "book" / "gb.csv.details.jsonl", tmp_path / "fb" / "summary.md"):
@@ -148,10 +148,10 @@ def test_grade_refuses_a_shared_output_folder(tmp_path):
     shared = tmp_path / "shared"
     shared.mkdir()
     os.chmod(shared, 0o1777)
-    done = _grade(tmp_path / "absent-00-start.ipynb", "--out", shared / "gb.csv")
+    done = _grade(tmp_path / "subs" / "absent-00-start.ipynb", "--out", shared / "gb.csv")
     assert done.returncode == 2 and "refusing --out" in done.stderr, done.stderr
     assert not (shared / "gb.csv").exists()
-    done = _grade(tmp_path / "absent-00-start.ipynb", "--out", tmp_path / "gb.csv",
+    done = _grade(tmp_path / "subs" / "absent-00-start.ipynb", "--out", tmp_path / "gb.csv",
                   "--feedback", shared)
     assert done.returncode == 2 and "refusing --feedback" in done.stderr, done.stderr
 
