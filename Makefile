@@ -1,6 +1,7 @@
 # photolib course: two commands do everything on a fresh machine.
 #   make lab   -> .venv with the course extras, JupyterLab on notebooks/00-start.ipynb
 #   make test  -> .venv with the test extras, every test (unit, doctest, codegen sync, nbval, grader, browser)
+#   make test-fast -> the unit tests and doctests not marked slow or browser (under 90 s on 2 cores)
 PYTHON ?= python3
 VENV   ?= .venv
 BIN    := $(VENV)/bin
@@ -21,6 +22,8 @@ LOCK   := constraints.txt
 help:
 	@echo "make lab    - install the course into $(VENV) and start JupyterLab (PORT=$(PORT), OPEN_BROWSER=$(OPEN_BROWSER))"
 	@echo "make test   - install the test extras into $(VENV) and run every test"
+	@echo "make test-fast - ruff and the unit tests and doctests not marked slow or browser;"
+	@echo "              no nbval, no browser test (make test runs those)"
 	@echo "make bench  - run the benchmarks in benchmarks/ (not part of the tests)"
 	@echo "make regen  - regenerate photolib/_generated from photolib/derive"
 	@echo "make assign - regenerate the student copies in exercises/ from solutions/"
@@ -58,8 +61,18 @@ test: $(VENV)/.test-installed
 	else echo "no exercise notebooks yet"; fi
 	$(BIN)/python -m pytest -q -rs -m browser tests
 
+# The quick loop while editing: the tests marked slow (more than ~2 s each, mostly the grader's
+# sandboxed kernels, see tests/grading) and browser are deselected, and the nbval runs are left
+# out. pytest prints how many were deselected by marker (tests/conftest.py); the echo says what
+# else did not run, also when a test failed.
 test-fast: $(VENV)/.test-installed
-	$(BIN)/python -m pytest -q -n $(JOBS) tests photolib --doctest-modules -m "not slow"
+	$(BIN)/python -m ruff check photolib tests benchmarks conftest.py
+	@$(BIN)/python -m pytest -q -n $(JOBS) -m "not slow and not browser" tests photolib --doctest-modules; \
+	status=$$?; \
+	echo "make test-fast: tests marked slow or browser were deselected (counted above);"; \
+	echo "  not run either: strict nbval of notebooks/ and solutions/, lax nbval of exercises/,"; \
+	echo "  the real-browser test. 'make test' runs all of them."; \
+	exit $$status
 
 bench: $(VENV)/.test-installed
 	$(BIN)/python -m benchmarks

@@ -568,6 +568,7 @@ def mixed_control():
     return xy, ji, pi, ext0, P0, sig, res
 
 
+@pytest.mark.slow
 def test_weighted_and_partial_control_agree_with_scipy(mixed_control):
     xy, ji, pi, ext0, P0, sig, res = mixed_control
     fun, unknown, observed = _weighted_residual_function(xy, ji, pi, len(ext0), sig, P0)

@@ -1,9 +1,11 @@
-"""``make lab`` serves JupyterLab: HTTP 200 on ``/lab`` and on the start page."""
+"""``make lab`` serves JupyterLab: HTTP 200 on ``/lab`` and on the start page. ``make test-fast``
+deselects the tests marked ``slow`` and ``browser``; ``make test`` still runs both."""
 
 from __future__ import annotations
 
 import os
 import re
+import shlex
 import shutil
 import signal
 import socket
@@ -33,6 +35,7 @@ def _status(url: str) -> int | None:
         return None
 
 
+@pytest.mark.slow
 @pytest.mark.timeout(120)
 @pytest.mark.skipif(shutil.which("make") is None, reason="make is not installed")
 def test_make_lab_serves_jupyterlab(tmp_path):
@@ -127,3 +130,58 @@ def test_make_installs_from_the_lock():
     assert re.search(r"^LOCK\s*:=\s*constraints\.txt$", make, re.M)
     assert re.search(r"^\$\(VENV\)/\.test-installed: pyproject\.toml \$\(LOCK\)", make, re.M)
     assert re.search(r"^lock:", make, re.M) and "pip freeze --exclude photolib" in make
+
+
+#: pytest options of the Makefile that take a value (the value is not a path to test)
+_VALUE_OPTIONS = {"-n", "-m", "-k", "-p", "--dist", "--nbval-sanitize-with", "--durations"}
+
+
+def _pytest_runs(target: str) -> list[tuple[str | None, list[str]]]:
+    """(``-m`` expression or None, paths) of each pytest run that ``make <target>`` starts, read
+    from ``make -n`` (the commands, not run), so that variables and line continuations count."""
+    venv = Path(sys.prefix)
+    if not (venv / "bin" / "python").exists() or not (ROOT / "Makefile").exists():
+        pytest.skip("not running from the project's virtual environment")
+    script = subprocess.run(["make", "-n", "-s", "-C", str(ROOT), "-o", f"{venv}/.test-installed",
+                             target, f"VENV={venv}"],
+                            capture_output=True, text=True, check=True, timeout=60).stdout
+    runs = []
+    for line in script.replace("\\\n", " ").splitlines():
+        words = shlex.split(line)
+        for start in (i + 2 for i in range(len(words) - 1) if words[i:i + 2] == ["-m", "pytest"]):
+            expr, paths, i = None, [], start
+            while i < len(words) and words[i] not in {";", "&&", "||", "|"}:
+                word = words[i].rstrip(";")
+                if word in _VALUE_OPTIONS:
+                    if word == "-m":
+                        expr = words[i + 1].rstrip(";")
+                    i += 1
+                elif not word.startswith("-"):
+                    paths.append(word)
+                if words[i].endswith(";"):
+                    break
+                i += 1
+            runs.append((expr, paths))
+    return runs
+
+
+def _selects(expr: str | None, markers: set[str]) -> bool:
+    """Whether ``pytest -m expr`` runs a test carrying ``markers``."""
+    from _pytest.mark.expression import Expression  # pytest's own parser of -m
+
+    return expr is None or Expression.compile(expr).evaluate(lambda name, **kw: name in markers)
+
+
+@pytest.mark.skipif(shutil.which("make") is None, reason="make is not installed")
+def test_make_test_fast_deselects_slow_and_browser_and_make_test_runs_them():
+    fast = _pytest_runs("test-fast")
+    assert [paths for _, paths in fast] == [["tests", "photolib"]], fast
+    expr = fast[0][0]
+    assert _selects(expr, set())
+    for markers in ({"slow"}, {"browser"}, {"slow", "browser"}):
+        assert not _selects(expr, markers), (expr, markers)
+    full = [(expr, paths) for expr, paths in _pytest_runs("test") if "tests" in paths]
+    for markers in (set(), {"slow"}, {"browser"}, {"slow", "browser"}):
+        assert any(_selects(expr, markers) for expr, _ in full), (full, markers)
+    # the doctests of photolib run in both
+    assert any("photolib" in paths for _, paths in full)

@@ -32,6 +32,7 @@ def test_table_and_id(capsys):
     assert cli.errata_main(["--id", "nope:1"]) == 2
 
 
+@pytest.mark.slow
 def test_check_formula(capsys):
     right = "z_p/N*(k_y/N*(k_y*sin(kappa) - k_x*cos(kappa)) + N*sin(kappa))"
     old = "z_p/N*(k_y/N*(k_x*cos(kappa) + k_y*sin(kappa)) + N*sin(kappa))"

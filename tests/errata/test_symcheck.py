@@ -45,6 +45,7 @@ def test_matrices_and_shapes():
     assert equivalent(sp.Matrix([x, 1]), sp.Matrix([[x, 1]])).kind == "not-equal"
 
 
+@pytest.mark.slow
 def test_undecided_undefined_function_and_budget():
     f = sp.Function("f")
     assert equivalent(f(x), f(x) + x * 0 + sp.sin(x) - sp.sin(x) + f(y) - f(y)).kind in (

@@ -58,6 +58,7 @@ class ChapterChecks:
     variant_students = 2            # the first n students of whom some must differ ...
     variant_fallback = ()           # ... or, if they do not, one of these from the first
     scalar_cases = True             # function cases are tuples of floats
+    slow_mistakes = frozenset()     # ids whose mistake check takes more than ~2 s: marked slow
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
@@ -69,7 +70,11 @@ class ChapterChecks:
         if "sid" in metafunc.fixturenames:
             metafunc.parametrize("sid", self.students[:self.reference_students])
         if "ex" in metafunc.fixturenames:
-            metafunc.parametrize("ex", exercises, ids=_exercise_id)
+            assert self.slow_mistakes <= {ex.id for ex in exercises}, self.slow_mistakes
+            slow = (self.slow_mistakes if metafunc.function.__name__
+                    == "test_each_mistake_is_recognised_with_its_hint" else ())
+            metafunc.parametrize("ex", [pytest.param(ex, marks=pytest.mark.slow) if ex.id in slow
+                                        else ex for ex in exercises], ids=_exercise_id)
         if "function_ex" in metafunc.fixturenames:
             metafunc.parametrize("function_ex", [ex for ex in exercises if ex.kind == "function"],
                                  ids=_exercise_id)
@@ -151,6 +156,9 @@ class BatchGradedChecks:
 
     grade_timeout = 60              # the grader's per-notebook time limit, in seconds
 
+    # both checks share the class fixture ``graded``, about 5 s of kernels: either run alone
+    # pays for it, so both are slow
+
     @pytest.fixture(scope="class")
     @classmethod
     def graded(cls, tmp_path_factory):
@@ -166,11 +174,13 @@ class BatchGradedChecks:
             results = pickle.load(f)
         return {key: results[str(path)] for key, path in paths.items()}
 
+    @pytest.mark.slow
     def test_master_gets_full_marks(self, graded):
         r = graded["master"]
         assert r.status == "ok", r.detail
         assert r.total == r.max_total == sum(ex.points for ex in self.module.EXERCISES)
 
+    @pytest.mark.slow
     def test_untouched_copy_gets_zero(self, graded):
         r = graded["copy"]
         assert r.status == "no-student-id", r.detail

@@ -65,6 +65,7 @@ class TestChapter08(ChapterChecks):
     chapter_name = "08-resection-dlt"
     kinds = {"number", "array", "expression", "function"}
     students = STUDENTS
+    slow_mistakes = frozenset({'rdl.dlt-coefficient'})
 
 
 def test_a_slightly_wrong_function_is_wrong_without_a_hint():

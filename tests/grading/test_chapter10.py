@@ -33,6 +33,7 @@ class TestChapter10(ChapterChecks, BatchGradedChecks):
     chapter_name = "10-bundle-adjustment"
     kinds = {"number", "choice", "function"}
     students = STUDENTS
+    slow_mistakes = frozenset({'bun.redundancy'})
     mistake_students = tuple(f"s{i:07d}" for i in range(40))
     scalar_cases = False            # bun.normal-contribution takes a design row and a σ
     grade_timeout = 120

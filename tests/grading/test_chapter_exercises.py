@@ -21,6 +21,7 @@ class TestChapter04(ChapterChecks):
     chapter_name = "04-rotations"
     kinds = {"expression", "function"}
     students = STUDENTS
+    slow_mistakes = frozenset({'rot.matrix-derivative'})
 
 
 class TestChapter05(ChapterChecks):
@@ -35,6 +36,7 @@ class TestChapter06(ChapterChecks):
     chapter_name = "06-collinearity"
     kinds = {"expression", "function"}
     students = STUDENTS
+    slow_mistakes = frozenset({'col.partial-derivative'})
 
 
 def test_every_answer_kind_is_used():

@@ -12,6 +12,10 @@ from photolib.grading.exercises import chapters
 
 from .conftest import ROOT
 
+# every test reads the module fixture ``graded``, which grades all masters and copies in
+# sandboxed kernels (about 20 s): the module is slow
+pytestmark = pytest.mark.slow
+
 MASTERS = sorted(p for p in (ROOT / "solutions").glob("*.ipynb") if p.stem in chapters())
 COPIES = sorted(p for p in (ROOT / "exercises").glob("*.ipynb") if p.stem in chapters())
 

@@ -350,6 +350,11 @@ def _remove_segment(key: int) -> None:
         libc.shmctl(ident, 0, None)  # IPC_RMID
 
 
+# every test but the last reads the module fixture ``corpus`` (the CLI grader on the hostile
+# corpus, 90 s and more); the last starts a judge pool, about 2 s alone: the module is slow
+pytestmark = pytest.mark.slow
+
+
 def row(corpus, name):
     return corpus["rows"][name]
 

@@ -100,6 +100,7 @@ def _grade(*args):
                           env=dict(os.environ, PYTHONPATH=str(ROOT)), timeout=120)
 
 
+@pytest.mark.slow
 def test_grade_writes_private_files(tmp_path):
     """gradebook, sidecar, feedback folder and summary: 0600 files, 0700 folders."""
     out = tmp_path / "book" / "gb.csv"
@@ -141,6 +142,7 @@ def test_shared_folders_are_recognised(tmp_path):
         assert shared_folder_problem(home) is None
 
 
+@pytest.mark.slow
 def test_grade_refuses_a_shared_output_folder(tmp_path):
     if not sandbox_support().own_user:
         pytest.skip("kernels run as the grader's own user here: a shared folder gives them "
@@ -345,6 +347,7 @@ print(static_student_id(nb))
 """
 
 
+@pytest.mark.slow
 def test_a_huge_cell_is_not_parsed_whole_in_the_grader():
     # ast.parse of that cell needs ~3 GB: the grader (root, no limit) read it before any sandbox
     proc = subprocess.run([sys.executable, "-c", _STATIC_READ], capture_output=True, text=True,
