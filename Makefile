@@ -22,7 +22,7 @@ help:
 	@echo "make lab    - install the course into $(VENV) and start JupyterLab (PORT=$(PORT), OPEN_BROWSER=$(OPEN_BROWSER))"
 	@echo "make test   - install the test extras into $(VENV) and run every test"
 	@echo "make bench  - run the benchmarks in benchmarks/ (not part of the tests)"
-	@echo "make regen  - regenerate photolib/_generated from photolib/derive"
+	@echo "make regen  - regenerate photolib/_generated from photolib/derive and the errata verdict table"
 	@echo "make assign - regenerate the student copies in exercises/ from solutions/"
 	@echo "make lock   - refresh $(LOCK) with the newest versions pyproject.toml allows"
 
@@ -66,6 +66,7 @@ bench: $(VENV)/.test-installed
 
 regen: $(VENV)/.test-installed
 	$(BIN)/python -m photolib.codegen
+	$(BIN)/python -m photolib errata --write-table
 
 assign: $(VENV)/.test-installed
 	$(BIN)/python -m photolib assign

@@ -3,6 +3,8 @@
 ``errata``            verdict table of the whole catalogue
 ``errata --id ID``    one record with its derivation steps and the comparison
 ``errata --json``     JSON list of {id, source, item, verdicts, note}
+``errata --write-table [PATH]``  recompute everything into the committed verdict table
+                      (``photolib/data/errata-verdicts.json``, see :mod:`photolib.errata.table`)
 ``check-formula "EXPR" --against ID``  parse EXPR safely and compare it with the derivation
 """
 
@@ -110,12 +112,22 @@ def _progress(items, desc: str):
 
 
 def errata_main(argv) -> int:
-    """``python -m photolib errata [--id ID] [--json]``."""
+    """``python -m photolib errata [--id ID] [--json] [--write-table [PATH]]``."""
     p = argparse.ArgumentParser(prog="python -m photolib errata",
                                 description="Verdicts of the errata catalogue.")
     p.add_argument("--id", help="print one record with derivation and comparison")
     p.add_argument("--json", action="store_true", help="JSON list of all records")
+    p.add_argument("--write-table", nargs="?", const="", metavar="PATH",
+                   help="recompute every verdict and write the committed verdict table read by "
+                        "the errata chapter (default: photolib/data/errata-verdicts.json)")
     args = p.parse_args(argv)
+    if args.write_table is not None:
+        from photolib.errata import table
+
+        path = table.write_table(args.write_table or table.TABLE_PATH,
+                                 progress=lambda recs: _progress(recs, "deriving and judging"))
+        print(f"wrote {path} ({len(catalogue())} records)")
+        return 0
     if args.id:
         try:
             rec = get(args.id)
