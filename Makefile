@@ -25,7 +25,7 @@ help:
 	@echo "make test-fast - ruff and the unit tests and doctests not marked slow or browser;"
 	@echo "              no nbval, no browser test (make test runs those)"
 	@echo "make bench  - run the benchmarks in benchmarks/ (not part of the tests)"
-	@echo "make regen  - regenerate photolib/_generated from photolib/derive"
+	@echo "make regen  - regenerate photolib/_generated from photolib/derive and the errata verdict table"
 	@echo "make assign - regenerate the student copies in exercises/ from solutions/"
 	@echo "make lock   - refresh $(LOCK) with the newest versions pyproject.toml allows"
 
@@ -79,6 +79,7 @@ bench: $(VENV)/.test-installed
 
 regen: $(VENV)/.test-installed
 	$(BIN)/python -m photolib.codegen
+	$(BIN)/python -m photolib errata --write-table
 
 assign: $(VENV)/.test-installed
 	$(BIN)/python -m photolib assign

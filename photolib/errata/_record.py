@@ -11,12 +11,19 @@ verdict from the evidence every time (never from the printed "richtig" version):
 * examples and text statements have a ``check`` function that recomputes the numbers
   from the printed inputs and returns an :class:`Evidence`;
 * figures and items without printed data are ``not-checkable: <why>``.
+
+``python -m photolib check-formula`` binds the names a reader types to the record's symbols
+with :meth:`Record.accepted_names`: the catalogue's own names (``k_x``, ``z_p``, ``kappa``) and
+the textbook's spellings of them (``kx``, ``zp``, ``κ``; see :func:`spellings`), plus the
+aliases a record lists itself (``Record.aliases``).
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+import re
+import unicodedata
 from typing import Any
 
 import sympy as sp
@@ -95,6 +102,69 @@ def _resolve(v):
     return v() if callable(v) else v
 
 
+#: Greek letter names as SymPy prints them → the letters (Python accepts both in a formula)
+GREEK = {
+    "alpha": "α", "beta": "β", "gamma": "γ", "delta": "δ", "epsilon": "ε", "zeta": "ζ",
+    "eta": "η", "theta": "θ", "iota": "ι", "kappa": "κ", "lamda": "λ", "mu": "μ", "nu": "ν",
+    "xi": "ξ", "omicron": "ο", "rho": "ρ", "sigma": "σ", "tau": "τ", "upsilon": "υ",
+    "phi": "φ", "chi": "χ", "psi": "ψ", "omega": "ω",
+    "Gamma": "Γ", "Delta": "Δ", "Theta": "Θ", "Lambda": "Λ", "Xi": "Ξ", "Sigma": "Σ",
+    "Phi": "Φ", "Psi": "Ψ", "Omega": "Ω",
+}
+_LETTER_NAME = {v: k for k, v in GREEK.items()}
+_MACRON = "\u0304"      # combining macron: s̄ for s_bar
+
+
+def _token_variants(token: str) -> set:
+    """Spellings of one ``_``-separated part of a name: as is, Greek letter ↔ name."""
+    out = {token}
+    m = re.fullmatch(r"([A-Za-z]+)(\d*)", token)
+    if m and m.group(1) in GREEK:                       # kappa → κ, xi0 → ξ0
+        out.add(GREEK[m.group(1)] + m.group(2))
+    m = re.fullmatch(r"(\w)(\d*)", token)
+    if m and m.group(1) in _LETTER_NAME:                # κ → kappa
+        out.add(_LETTER_NAME[m.group(1)] + m.group(2))
+    return out
+
+
+def spellings(name: str) -> set:
+    """The textbook spellings of a catalogue symbol name (the name itself included).
+
+    Why: the catalogue names symbols so that SymPy prints them unambiguously (``k_x``,
+    ``z_p`` for z', ``kappa``, ``s_bar``); a reader types them as the book prints them:
+    ``kx``, ``zp`` (or ``z'``, which the parser reads as ``z_p``), ``κ``, ``s̄``, ``r_11``.
+    The rules: the ``_`` between parts may be left out; a Greek part may be typed as the
+    letter or as its name; ``_bar`` may be a macron over the letter; digits after letters
+    may follow a ``_`` (``X_0`` for ``X0``). All spellings are NFKC-normalised, as Python
+    normalises the identifiers of a typed formula (so ``ϕ`` is read as ``φ``).
+
+    >>> sorted(spellings("k_x"))
+    ['k_x', 'kx']
+    >>> sorted(spellings("kappa"))
+    ['kappa', 'κ']
+    >>> sorted(spellings("Delta_xi"))
+    ['Delta_xi', 'Delta_ξ', 'Deltaxi', 'Deltaξ', 'Δ_xi', 'Δ_ξ', 'Δxi', 'Δξ']
+    >>> sorted(spellings("r11"))
+    ['r11', 'r_11']
+    """
+    parts = name.split("_")
+    variants = [""]
+    for i, part in enumerate(parts):
+        if part == "bar" and i > 0:                     # s_bar → s̄, sbar, s_bar
+            variants = [v + sep + alt for v in variants for sep, alt in
+                        (("", _MACRON), ("_", "bar"), ("", "bar"))
+                        if not (alt == _MACRON and len(re.split(r"_", v)[-1]) != 1)]
+            continue
+        seps = ("",) if i == 0 else ("_", "")
+        variants = [v + sep + t for v in variants for sep in seps
+                    for t in sorted(_token_variants(part))]
+    out = set(variants)
+    m = re.fullmatch(r"([A-Za-z]+)(\d+)", name)
+    if m:                                               # r11 → r_11, X0 → X_0
+        out.add(f"{m.group(1)}_{m.group(2)}")
+    return {unicodedata.normalize("NFKC", v) for v in out if v.isidentifier()}
+
+
 @dataclass
 class Record:
     """One catalogue entry. See the module docstring."""
@@ -110,6 +180,7 @@ class Record:
     note: str = ""
     domain: Any = None              # symbols_domain for the sampling (or callable)
     symbols: Any = None             # name -> Symbol for check-formula (or callable)
+    aliases: Any = None             # textbook spelling -> symbol name, beside spellings()
     _cache: dict = field(default_factory=dict, repr=False)
 
     @property
@@ -141,6 +212,51 @@ class Record:
                 for s in e.free_symbols:
                     table.setdefault(s.name, s)
         return table
+
+    def accepted_names(self) -> dict:
+        """``{spelling: Symbol}``: every name ``check-formula`` binds for this record.
+
+        The names of :meth:`symbol_table`, each symbol's textbook :func:`spellings`, and
+        the record's own ``aliases`` (``{"X0_star": "X0s"}``: a spelling the rules do not
+        give). A spelling that two symbols share is ambiguous and left out, and a symbol's
+        own name always means that symbol.
+
+        Raises
+        ------
+        ValueError
+            If an alias names no symbol of the record, or is the name of another symbol.
+        """
+        if "accepted" in self._cache:
+            return self._cache["accepted"]
+        table = self.symbol_table()
+        found: dict = {}
+        for name, sym in table.items():
+            for spelling in spellings(name):
+                found.setdefault(spelling, set()).add(sym)
+        out = {k: next(iter(v)) for k, v in found.items() if len(v) == 1}
+        out.update(table)
+        for spelling, name in dict(_resolve(self.aliases) or {}).items():
+            if name not in table:
+                raise ValueError(f"{self.id}: alias {spelling!r} names {name!r}, which is not a "
+                                 f"symbol of the record (symbols: {sorted(table)})")
+            if spelling in table and table[spelling] != table[name]:
+                raise ValueError(f"{self.id}: alias {spelling!r} for {name!r} is already the "
+                                 f"name of another symbol")
+            out[unicodedata.normalize("NFKC", spelling)] = table[name]
+        self._cache["accepted"] = out
+        return out
+
+    def expected_names(self) -> dict:
+        """``{symbol name: [other accepted spellings]}``, sorted: what ``check-formula`` lists
+        when a typed formula has a name the record does not know."""
+        out: dict = {}
+        for spelling, sym in self.accepted_names().items():
+            out.setdefault(sym.name, [])
+            if spelling != sym.name:
+                out[sym.name].append(spelling)
+            if spelling.endswith("_p") and len(spelling) > 2:   # z' is read as z_p
+                out[sym.name].append(spelling[:-2] + "'")
+        return {k: sorted(v) for k, v in sorted(out.items(), key=lambda kv: kv[0].lower())}
 
     def compare(self, expr, condition=None, target=None):
         """``equivalent(expr with the given meanings, derivation)``."""

@@ -3,6 +3,8 @@
 ``errata``            verdict table of the whole catalogue
 ``errata --id ID``    one record with its derivation steps and the comparison
 ``errata --json``     JSON list of {id, source, item, verdicts, note}
+``errata --write-table [PATH]``  recompute everything into the committed verdict table
+                      (``photolib/data/errata-verdicts.json``, see :mod:`photolib.errata.table`)
 ``check-formula "EXPR" --against ID``  parse EXPR safely and compare it with the derivation
 """
 
@@ -110,12 +112,22 @@ def _progress(items, desc: str):
 
 
 def errata_main(argv) -> int:
-    """``python -m photolib errata [--id ID] [--json]``."""
+    """``python -m photolib errata [--id ID] [--json] [--write-table [PATH]]``."""
     p = argparse.ArgumentParser(prog="python -m photolib errata",
                                 description="Verdicts of the errata catalogue.")
     p.add_argument("--id", help="print one record with derivation and comparison")
     p.add_argument("--json", action="store_true", help="JSON list of all records")
+    p.add_argument("--write-table", nargs="?", const="", metavar="PATH",
+                   help="recompute every verdict and write the committed verdict table read by "
+                        "the errata chapter (default: photolib/data/errata-verdicts.json)")
     args = p.parse_args(argv)
+    if args.write_table is not None:
+        from photolib.errata import table
+
+        path = table.write_table(args.write_table or table.TABLE_PATH,
+                                 progress=lambda recs: _progress(recs, "deriving and judging"))
+        print(f"wrote {path} ({len(catalogue())} records)")
+        return 0
     if args.id:
         try:
             rec = get(args.id)
@@ -138,14 +150,82 @@ def errata_main(argv) -> int:
     return 0
 
 
+#: significant digits of a counterexample's coordinates in ``check-formula``: enough to find the
+#: point again, few enough to read (the exact dyadic rationals have some 20 digits)
+POINT_DIGITS = 4
+
+
+def _decimal(v, digits: int) -> str:
+    """``v`` (SymPy rational, mpmath or float) as a decimal with ``digits`` significant digits."""
+    try:
+        import mpmath
+        if isinstance(v, (mpmath.mpf, mpmath.mpc)):
+            return mpmath.nstr(v, digits, min_fixed=-4, max_fixed=6)
+    except ImportError:  # pragma: no cover
+        pass
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_decimal(e, digits) for e in v) + "]"
+    try:
+        return f"{float(v):.{digits}g}"
+    except (TypeError, ValueError):
+        return str(v)
+
+
+def format_point(point: dict, digits: int = POINT_DIGITS) -> str:
+    """``name = value, …`` of a sample point, sorted by name, values to ``digits`` digits.
+
+    >>> import sympy as sp
+    >>> format_point({sp.Symbol("b"): sp.Rational(1083459, 524288), sp.Symbol("a"): 0})
+    'a = 0, b = 2.067'
+    """
+    return ", ".join(f"{k} = {_decimal(v, digits)}"
+                     for k, v in sorted(point.items(), key=lambda kv: str(kv[0])))
+
+
+def format_values(a, b) -> tuple:
+    """``(a, b)`` as decimals with the fewest digits (4 to ``SIGNIFICANT``) that tell them apart.
+
+    >>> format_values(1.0, 1.00002)
+    ('1', '1.00002')
+    """
+    for digits in range(POINT_DIGITS, SIGNIFICANT + 1):
+        ta, tb = _decimal(a, digits), _decimal(b, digits)
+        if ta != tb:
+            return ta, tb
+    return ta, tb
+
+
+def _condition_text(cond) -> str:
+    """A substitution ``{z_p: -c}`` as ``z_p = -c``; other conditions as text."""
+    if isinstance(cond, dict):
+        return ", ".join(f"{k} = {v}" for k, v in cond.items())
+    return str(cond)
+
+
+def _expected(rec) -> str:
+    """The record's symbol names, each with its other accepted spellings in parentheses."""
+    return ", ".join(name + (f" ({', '.join(alts)})" if alts else "")
+                     for name, alts in rec.expected_names().items())
+
+
 def check_formula_main(argv) -> int:
-    """``python -m photolib check-formula "EXPR" --against ID``; exit 0 iff equal."""
+    """``python -m photolib check-formula "EXPR" --against ID``; exit 0 iff equal.
+
+    EXPR may use the catalogue's names (``k_x``, ``z_p``, ``kappa``) or the textbook's
+    (``kx``, ``zp`` or ``z'``, ``κ``): see :meth:`photolib.errata.Record.accepted_names`. A
+    name the record does not know is an error (exit 2) that lists the names it accepts, not
+    a comparison: an extra symbol would make any formula "not-equal". An
+    ``equal-under-condition`` result names the condition first (the record's wording and the
+    substitution); counterexamples are decimals to a few significant digits.
+    """
     from photolib.symcheck import UnsafeExpressionError, parse_expression
 
     p = argparse.ArgumentParser(prog="python -m photolib check-formula",
-                                description="Compare a typed formula with a derivation.")
-    p.add_argument("expr", help="formula, e.g. \"z_p/N*(k_y/N*(k_y*sin(kappa) - "
-                                "k_x*cos(kappa)) + N*sin(kappa))\"")
+                                description="Compare a typed formula with a derivation. "
+                                            "Names as in the catalogue or as in the book "
+                                            "(kx for k_x, z' or zp for z_p, κ or kappa).")
+    p.add_argument("expr", help="formula, e.g. \"zp/N*(ky/N*(ky*sin(κ) - "
+                                "kx*cos(κ)) + N*sin(κ))\"")
     p.add_argument("--against", required=True, help="record id, e.g. luhmann:4.18b")
     args = p.parse_args(argv)
     try:
@@ -156,20 +236,45 @@ def check_formula_main(argv) -> int:
     if rec.derivation is None:
         print(f"{rec.id} has no derivation to compare with", file=sys.stderr)
         return 2
+    accepted = rec.accepted_names()
     try:
-        expr = parse_expression(args.expr, rec.symbol_table())
+        expr = parse_expression(args.expr, accepted)
     except UnsafeExpressionError as exc:
         print(f"rejected: {exc}", file=sys.stderr)
         return 2
-    conds = [s.condition for s in rec.specs.values() if s.condition is not None]
-    cond = conds[0]() if conds and callable(conds[0]) else (conds[0] if conds else None)
+    known = set(accepted.values())
+    unknown = sorted((s for s in getattr(expr, "free_symbols", ()) if s not in known),
+                     key=lambda s: s.name)
+    if unknown:
+        print(f"{rec.id}: unknown symbol{'s' if len(unknown) > 1 else ''} "
+              f"{', '.join(s.name for s in unknown)}; the record knows: {_expected(rec)}",
+              file=sys.stderr)
+        return 2
+    # the condition of the first version that has one; its wording from a version with the same
+    specs = [s for s in rec.specs.values() if s.condition is not None]
+    cond = _resolve(specs[0].condition) if specs else None
+    specs = sorted((s for s in specs if _resolve(s.condition) == cond),
+                   key=lambda s: not s.condition_text)
     v = rec.compare(expr, cond)
+    if v.kind == "equal-under-condition":
+        print(f"{rec.id}: equal-under-condition: {_condition_text(v.condition)}")
+        if isinstance(v.condition, dict) and specs and specs[0].condition_text:
+            print(f"  the record's condition: {specs[0].condition_text}")
+        print(f"  how: {v.method}")
+        if v.counterexample:
+            yours, derived = format_values(*v.values)
+            print(f"  (the condition is needed: without it, at {format_point(v.counterexample)}, "
+                  f"yours is {yours} and the derivation {derived})")
+        return 0
     print(f"{rec.id}: {v.kind} ({v.method})")
-    if v.condition is not None:
-        print(f"  condition: {v.condition}")
+    if v.kind == "undecided" and v.detail:
+        print(f"  why: {v.detail}")
     if v.counterexample:
-        pt = ", ".join(f"{k} = {_fmt(x)}" for k, x in sorted(v.counterexample.items(),
-                                                             key=lambda kv: str(kv[0])))
-        print(f"  counterexample: {pt}")
-        print(f"  values (yours, derived): {_fmt(v.values[0])} | {_fmt(v.values[1])}")
-    return 0 if v.kind in ("equal", "equal-under-condition") else 1
+        yours, derived = format_values(*v.values)
+        print(f"  counterexample: {format_point(v.counterexample)}")
+        print(f"  values (yours, derived): {yours} | {derived}")
+    return 0 if v.kind == "equal" else 1
+
+
+def _resolve(v):
+    return v() if callable(v) else v

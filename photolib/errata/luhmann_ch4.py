@@ -2,7 +2,8 @@
 
 Symbols: ``z_p`` is Luhmann's z' (the image-space z of the image plane; the course has
 ``z' = −c``); ``X0s, Y0s, Z0s`` are the components of his vector X0* (4.11); ``k_x, k_y, N``
-his auxiliary values; r11..r33 the elements of R.
+his auxiliary values; r11..r33 the elements of R. ``check-formula`` also takes the book's
+spellings (``kx``, ``ky``, ``zp`` or ``z'``, ``κ``; ``X0_star`` for X0*, see ``aliases``).
 """
 
 from __future__ import annotations
@@ -164,6 +165,7 @@ def records():
              condition_text="X0* = −Rᵀ·X0 (so k = Rᵀ·X + X0*), z' = −c, principal point at "
                             "the origin, Z0* ≠ 0")},
         derivation=_derived_413,
+        aliases={"X0_star": "X0s", "Y0_star": "Y0s", "Z0_star": "Z0s"},      # his X0*, Y0*, Z0*
         steps=("x' = −c·kx/N with k = Rᵀ(X − X0) = Rᵀ·X + X0*, X0* := −Rᵀ·X0",
                "numerator and denominator divided by Z0* (third component of X0*)",
                "old print has X0, Y0 (object coordinates of the centre) where X0*, Y0* belong"),

@@ -10,6 +10,13 @@ verdict comes from a check, formulas checked by a function instead of a derivati
 :func:`not_evaluable_reason` says why; :func:`evaluate_versions` raises ``ValueError`` with that
 reason and :func:`build_widget` shows it instead of sliders.
 
+:class:`VerdictExplorer` is the chapter's interactive verdict table: a search box and filters
+by source, chapter of Luhmann's book and verdict over the committed verdict table
+(:mod:`photolib.errata.table`), showing every verdict in full. Its callback
+:func:`verdict_table_html` (rows: :func:`verdict_rows`) is a plain function, tested in
+``tests/errata/test_verdict_table.py``; it is built like the glossary's explorer
+(:class:`photolib.nb.glossary.GlossaryExplorer`, the same :class:`photolib.nb.live.Panel`).
+
 A record whose derivation is the residual of an invariance (``luhmann:2.21``: the cross ratio
 is valid iff λ(projected points) − λ(points) ≡ 0) is evaluated as that residual under a fixed
 projectivity of the line, so each version is compared with the derivation's 0; the printed
@@ -241,3 +248,190 @@ def build_widget(record_id: str, lo: float = -2.0, hi: float = 2.0):
     refresh()
     note = _explanation(rec)
     return w.VBox([title, *([w.HTML(note)] if note else []), *sliders.values(), out])
+
+
+# ------------------------------------------------------------- the committed verdict table
+#: the verdict filter's choices: each kind, and the versions where we differ from the source
+VERDICT_FILTERS = {"all": "all verdicts", "right": "right", "wrong": "wrong",
+                   "right-under-condition": "right under a condition",
+                   "not-checkable": "not checkable",
+                   "differs": "differs from the source's claim"}
+_COLUMNS = ("record", "item", "version", "source claims", "our verdict", "why")
+
+
+def _kind(verdict: str) -> str:
+    return verdict.split(":")[0]
+
+
+def verdict_rows(query: str = "", source: str = "all", chapter: str = "all",
+                 verdict: str = "all", table: dict | None = None) -> list[dict]:
+    """The printed versions of the committed verdict table that pass the filters.
+
+    Parameters
+    ----------
+    query : str
+        Text to find (case and accents ignored) in the id, item, version, verdict, reason,
+        counterexample or note; empty: every version.
+    source : str
+        ``"all"`` or a source key of :data:`photolib.errata.table.ORIGINS` (``"luhmann"``, …).
+    chapter : str
+        ``"all"`` or a chapter of Luhmann's book (``"4"``); other sources have none.
+    verdict : str
+        ``"all"``, a verdict kind, or ``"differs"``: where our verdict's kind is not the
+        source's claim (:meth:`photolib.errata.Record.differs_from_source`).
+    table : dict, optional
+        A table as :func:`photolib.errata.table.load_table` returns it (the committed one).
+
+    Returns
+    -------
+    list of dict
+        One row per (record, version), in the catalogue's order: ``id``, ``origin``,
+        ``chapter``, ``item``, ``version``, ``claim``, ``verdict`` (the full text), ``why``,
+        ``counterexample``, ``note``.
+
+    Raises
+    ------
+    ValueError
+        For an unknown source, chapter or verdict filter, naming it and the choices.
+
+    >>> [r["version"] for r in verdict_rows("", "luhmann", "4", "wrong") if r["id"] == "luhmann:4.18b"]
+    ['old']
+    """
+    from photolib.errata.table import ORIGINS, load_table
+    from photolib.glossary import _fold
+
+    table = load_table() if table is None else table
+    if source != "all" and source not in ORIGINS:
+        raise ValueError(f"unknown source {source!r}; expected 'all' or one of {list(ORIGINS)}")
+    chapters = sorted({e["chapter"] for e in table["records"] if e["chapter"]}, key=int)
+    if chapter != "all" and chapter not in chapters:
+        raise ValueError(f"unknown chapter {chapter!r}; expected 'all' or one of {chapters}")
+    if verdict not in VERDICT_FILTERS:
+        raise ValueError(f"unknown verdict filter {verdict!r}; expected one of "
+                         f"{list(VERDICT_FILTERS)}")
+    q = _fold(query.strip())
+    rows = []
+    for e in table["records"]:
+        if (source != "all" and e["origin"] != source) or (chapter != "all"
+                                                           and e["chapter"] != chapter):
+            continue
+        for name, v in e["versions"].items():
+            kind = _kind(v["verdict"])
+            if verdict == "differs" and kind == v["claim"]:
+                continue
+            if verdict not in ("all", "differs") and kind != verdict:
+                continue
+            row = {"id": e["id"], "origin": e["origin"], "chapter": e["chapter"],
+                   "item": e["item"], "version": name, "claim": v["claim"],
+                   "verdict": v["verdict"], "why": v["why"],
+                   "counterexample": v["counterexample"], "note": e["note"]}
+            if q and not any(q in _fold(row[k]) for k in ("id", "item", "version", "verdict",
+                                                          "why", "counterexample", "note")):
+                continue
+            rows.append(row)
+    return rows
+
+
+def _verdict_cell(verdict: str) -> str:
+    import html
+
+    kind, sep, rest = verdict.partition(": ")
+    colour = {"right": "#1a7f37", "wrong": "#cf222e", "right-under-condition": "#9a6700",
+              "not-checkable": "#57606a"}.get(kind, "inherit")
+    return (f"<b style='color:{colour}'>{html.escape(kind)}</b>"
+            + (f": {html.escape(rest)}" if sep else ""))
+
+
+def verdict_table_html(query: str = "", source: str = "all", chapter: str = "all",
+                       verdict: str = "all", table: dict | None = None) -> str:
+    """The explorer's text: how many versions match, and their table with the full verdicts.
+
+    Nothing is cut: each verdict, reason and counterexample is shown whole (wrapped).
+
+    >>> verdict_table_html("no such words anywhere").startswith("<p>0 of ")
+    True
+    """
+    import html
+
+    from photolib.errata.table import load_table
+
+    table = load_table() if table is None else table
+    rows = verdict_rows(query, source, chapter, verdict, table)
+    total = sum(len(e["versions"]) for e in table["records"])
+    n_rec = len({r["id"] for r in rows})
+    head = (f"<p>{len(rows)} of {total} printed versions ({n_rec} of {len(table['records'])} "
+            "records). Evidence of one record: <code>python -m photolib errata --id ID</code>"
+            "</p>")
+    if not rows:
+        return head
+    th = "".join(f"<th style='text-align:left'>{c}</th>" for c in _COLUMNS)
+    body = []
+    for r in rows:
+        why = html.escape(r["why"]) + (
+            f"<br><i>counterexample</i>: {html.escape(r['counterexample'])}"
+            if r["counterexample"] and _kind(r["verdict"]) == "wrong" else "")
+        cells = (f"<code>{html.escape(r['id'])}</code>", html.escape(r["item"]),
+                 html.escape(r["version"]), html.escape(r["claim"]),
+                 _verdict_cell(r["verdict"]), why)
+        body.append("<tr>" + "".join(f"<td style='text-align:left;vertical-align:top'>{c}</td>"
+                                     for c in cells) + "</tr>")
+    return (f"{head}<table style='font-size:90%;white-space:normal'><tr>{th}</tr>"
+            f"{''.join(body)}</table>")
+
+
+class VerdictExplorer:
+    """Search box, source, chapter and verdict filters → the committed verdicts, in full.
+
+    The errata chapter's interactive table, built like the glossary's
+    (:class:`photolib.nb.glossary.GlossaryExplorer`): the controls call the plain function
+    :func:`verdict_table_html` on every change. It reads the committed table
+    (:mod:`photolib.errata.table`), so it opens at once; nothing is recomputed.
+    """
+
+    title = "errata verdicts"
+
+    def __init__(self, query: str = "", source: str = "all", chapter: str = "all",
+                 verdict: str = "all"):
+        import ipywidgets as w
+
+        from photolib.errata.table import ORIGINS, load_table
+        from photolib.nb.live import Panel
+
+        table = load_table()
+        chapters = sorted({e["chapter"] for e in table["records"] if e["chapter"]}, key=int)
+        wide = w.Layout(width="max-content")
+        self.controls = {
+            "query": w.Text(value=query, placeholder="id, item, verdict or reason",
+                            description="search", continuous_update=True),
+            "source": w.Dropdown(options=[("all sources", "all")]
+                                 + [(v, k) for k, v in ORIGINS.items()],
+                                 value=source, description="source", layout=wide),
+            "chapter": w.Dropdown(options=[("all chapters", "all")]
+                                  + [(f"Luhmann ch. {c}", c) for c in chapters],
+                                  value=chapter, description="chapter", layout=wide),
+            "verdict": w.Dropdown(options=[(v, k) for k, v in VERDICT_FILTERS.items()],
+                                  value=verdict, description="verdict", layout=wide),
+        }
+        self.html = w.HTML()
+        controls = w.HBox(list(self.controls.values()),
+                          layout=w.Layout(flex_flow="row wrap"))
+        self.widget = Panel([controls, self.html], title=self.title)
+        for control in self.controls.values():
+            control.observe(self._on_change, names="value")
+        self.update()
+
+    def values(self) -> dict:
+        return {name: c.value for name, c in self.controls.items()}
+
+    def _on_change(self, change) -> None:
+        self.update()
+
+    def update(self) -> str:
+        """Recompute the table from the current controls; returns the HTML."""
+        self.html.value = verdict_table_html(**self.values())
+        return self.html.value
+
+    def _ipython_display_(self):
+        from IPython.display import display
+
+        display(self.widget)
