@@ -6,15 +6,20 @@ In a master:
 - an answer cell is tagged ``answer:EXERCISE_ID``; the lines between ``### BEGIN SOLUTION`` and
   ``### END SOLUTION`` become ``NAME = ...`` (or ``return ...`` in a function exercise), with
   the indentation of the marker;
+- each exercise's task cell assigns its parameters to the exercise's own name,
+  ``p_opk = task("rot.opk-matrix")`` (``Exercise.params_name``), and no other cell assigns
+  that name: one name per task, so that cells can run in any order;
 - cells tagged ``solution-only`` are left out of the copy;
 - outputs and execution counts are removed; ``metadata.photolib.chapter`` is set.
 
 :func:`make_student_copy` checks that every exercise of the chapter has exactly one answer
-cell and a ``check("ID")`` call, and that no tag names an unknown exercise.
+cell, one task cell assigning to its ``params_name`` and a ``check("ID")`` call, and that no
+tag or ``task`` call names an unknown exercise.
 """
 
 from __future__ import annotations
 
+import ast
 import copy
 import re
 from pathlib import Path
@@ -52,10 +57,71 @@ def _strip_solution(source: str, stub: str, where: str) -> str:
     return "\n".join(out)
 
 
+def _task_calls(tree):
+    """``(target or None, exercise id)`` of each ``task("ID")`` call, with its assignment."""
+    found, assigned = [], set()
+    for node in ast.walk(tree):
+        if (isinstance(node, ast.Assign) and len(node.targets) == 1
+                and isinstance(node.targets[0], ast.Name)):
+            assigned.add(id(node.value))
+            call = node.value
+            target = node.targets[0].id
+        elif isinstance(node, ast.Call) and id(node) not in assigned:
+            call, target = node, None
+        else:
+            continue
+        if (isinstance(call, ast.Call) and isinstance(call.func, ast.Name)
+                and call.func.id == "task" and call.args
+                and isinstance(call.args[0], ast.Constant) and isinstance(call.args[0].value, str)):
+            found.append((target, call.args[0].value))
+    return found
+
+
+def _check_task_cells(nb, chapter: str, exercises: dict) -> None:
+    """Each exercise has one task cell ``params_name = task("ID")``; no other cell assigns it."""
+    from photolib.grading.notebook import _analyse
+    owners = {ex.params_name: ex for ex in exercises.values()}
+    tasks = {}
+    for index, cell in enumerate(nb.cells):
+        if cell.cell_type != "code":
+            continue
+        where = f"{chapter} cell {index + 1}"
+        try:
+            tree = ast.parse(cell.source)
+        except SyntaxError as exc:
+            if "task(" in cell.source:
+                raise AssignError(f"{where}: a task cell must be plain Python ({exc})") from None
+            continue
+        calls = _task_calls(tree)
+        for target, ex_id in calls:
+            ex = exercises.get(ex_id)
+            if ex is None:
+                raise AssignError(f"{where}: task({ex_id!r}) names no exercise of {chapter}; "
+                                  f"known: {sorted(exercises)}")
+            if target != ex.params_name:
+                got = f"to {target}" if target else "to no name"
+                raise AssignError(f"{where}: task({ex_id!r}) is assigned {got}; write "
+                                  f"{ex.params_name} = task({ex_id!r}) (the exercise's "
+                                  f"params_name)")
+            if ex_id in tasks:
+                raise AssignError(f"{where}: second task cell for {ex_id} "
+                                  f"(first in cell {tasks[ex_id] + 1})")
+            tasks[ex_id] = index
+        own = {target for target, _ in calls}
+        for name in sorted((_analyse(cell.source).assigned & set(owners)) - own):
+            raise AssignError(f"{where}: assigns {name}, which holds the parameters of "
+                              f"{owners[name].id}; only its task cell may")
+    missing = sorted(set(exercises) - set(tasks))
+    if missing:
+        names = ", ".join(f"{exercises[i].params_name} = task({i!r})" for i in missing)
+        raise AssignError(f"{chapter}: no task cell for {missing}: write {names}")
+
+
 def make_student_copy(master, chapter: str):
     """The student copy of the master notebook ``master`` (an nbformat 4 node)."""
     exercises = {ex.id: ex for ex in chapter_exercises(chapter)}
     nb = copy.deepcopy(master)
+    _check_task_cells(nb, chapter, exercises)
     cells, answered, checked = [], {}, set()
     for index, cell in enumerate(nb.cells):
         tags = list(cell.get("metadata", {}).get("tags", []))

@@ -14,12 +14,13 @@ reference solution, the hidden tests and the hint rules without trusting the not
 
 from __future__ import annotations
 
+import keyword
 import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
-__all__ = ["KINDS", "Exercise", "Mistake", "Params"]
+__all__ = ["KINDS", "RESERVED_NAMES", "Exercise", "Mistake", "Params"]
 
 #: answer kinds and what the answer variable holds
 KINDS = {
@@ -30,6 +31,9 @@ KINDS = {
     "function": "a Python function, called on test inputs",
     "choice": "the key of one option of a multiple choice, e.g. 'b'",
 }
+
+#: notebook names a task's parameters may not take (the setup cell and the id cell own them)
+RESERVED_NAMES = frozenset({"STUDENT_ID", "check", "task"})
 
 _ID = re.compile(r"^[a-z0-9]+(?:[.-][a-z0-9]+)*$")
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
@@ -88,6 +92,13 @@ class Exercise:
         One of :data:`KINDS`.
     answer : str
         Name of the notebook variable (or function) that holds the answer.
+    params_name : str
+        Name of the notebook variable that holds the task's parameters: the master's task
+        cell is ``params_name = task("ID")`` (``assign`` refuses any other), and
+        :func:`~photolib.grading.task` prints "Your numbers are in params_name: …". Unique
+        within the chapter (:func:`photolib.grading.exercises.chapters` checks), so that
+        every task keeps its own numbers whatever order the cells run in. Default:
+        ``p_`` and the id's last part (``"t.dlt-vector"`` -> ``p_dlt_vector``).
     parameters : callable
         ``parameters(rng)`` draws the variant from a ``numpy.random.Generator``; values should
         be rounded as printed, so student and reference compute with the same numbers.
@@ -121,6 +132,7 @@ class Exercise:
     answer: str
     parameters: Callable[[Any], dict]
     reference: Callable[[Params], Any]
+    params_name: str = ""
     rtol: float = 1e-6
     atol: float = 1e-9
     tolerance: Callable[[Params], tuple] | None = None
@@ -137,6 +149,16 @@ class Exercise:
             raise ValueError(f"exercise {self.id}: kind {self.kind!r} is not one of {list(KINDS)}")
         if not _NAME.match(self.answer):
             raise ValueError(f"exercise {self.id}: answer {self.answer!r} is not a Python name")
+        if not self.params_name:
+            object.__setattr__(self, "params_name",
+                               "p_" + re.sub(r"\W", "_", self.id.rsplit(".", 1)[-1]))
+        if (not _NAME.match(self.params_name) or keyword.iskeyword(self.params_name)
+                or self.params_name in RESERVED_NAMES):
+            raise ValueError(f"exercise {self.id}: params_name {self.params_name!r} is not a "
+                             f"Python name free for a task's parameters")
+        if self.params_name == self.answer:
+            raise ValueError(f"exercise {self.id}: params_name and answer are both "
+                             f"{self.answer!r}")
         if not self.points > 0:
             raise ValueError(f"exercise {self.id}: points must be positive, got {self.points!r}")
         if self.kind == "function" and self.cases is None:

@@ -39,8 +39,28 @@ def chapters() -> dict:
             if ex.id in seen_ids:
                 raise ValueError(f"exercise id {ex.id!r} is used in {seen_ids[ex.id]} and {name}")
             seen_ids[ex.id] = name
+        _check_names(name, exercises)
         found[name] = exercises
     return found
+
+
+def _check_names(name: str, exercises) -> None:
+    """Each task's parameters have a name of their own in the chapter's notebook.
+
+    Two tasks whose parameters share a name (every task's ``p``) overwrite each other's
+    numbers: after Run All an answer cell run again reads the last task's numbers. A
+    parameter name that is also an answer variable would be overwritten by that answer.
+    """
+    owner = {}
+    answers = {ex.answer: ex.id for ex in exercises}
+    for ex in exercises:
+        if ex.params_name in owner:
+            raise ValueError(f"chapter {name}: {ex.id} and {owner[ex.params_name]} both keep "
+                             f"their parameters in {ex.params_name!r}")
+        if ex.params_name in answers:
+            raise ValueError(f"chapter {name}: {ex.id} keeps its parameters in "
+                             f"{ex.params_name!r}, the answer variable of {answers[ex.params_name]}")
+        owner[ex.params_name] = ex.id
 
 
 def chapter(name: str) -> tuple:

@@ -36,6 +36,7 @@ def _scale_tolerance(p):
 
 
 image_scale = Exercise(
+    params_name="p_scale",
     id="demo.image-scale", points=2, title="Image scale number (Bildmaßstabszahl)",
     kind="number", answer="scale_number",
     statement="{camera} with camera constant c = {c_mm} mm {distance} h = {h_m} m above a "
@@ -51,6 +52,7 @@ def _rot2(p):
 
 
 rotation_2d = Exercise(
+    params_name="p_rot2d",
     id="demo.rotation-2d", points=2, title="2-D rotation (ebene Drehung)", kind="rotation",
     answer="R2",
     statement="Build the 2×2 matrix that rotates plane coordinates counter-clockwise by "
@@ -71,6 +73,7 @@ def _rot_x(p):
 
 
 rotation_x = Exercise(
+    params_name="p_rotx",
     id="demo.rotation-x", points=2, title="Rotation about X (Drehung um die X-Achse)",
     kind="rotation", answer="R_omega",
     statement="Build R_ω, the active right-handed rotation about the X axis by "
@@ -88,6 +91,7 @@ def _rot_x_symbolic(p):
 
 
 rotation_x_symbolic = Exercise(
+    params_name="p_rotx_sym",
     id="demo.rotation-x-symbolic", points=2, title="R_ω with SymPy", kind="expression",
     answer="R_omega_sym", symbols=("omega",),
     statement="Write R_ω as a SymPy Matrix in the symbol omega = sympy.Symbol('omega').",
@@ -101,6 +105,7 @@ def _scale_cases(rng, p):
 
 
 scale_function = Exercise(
+    params_name="p_scale_fn",
     id="demo.scale-function", points=2, title="Image scale number as a function",
     kind="function", answer="image_scale_number", rtol=1e-6, atol=1e-9,
     statement="Write image_scale_number(c_mm, h_m) returning m_b for a camera constant in mm "
@@ -123,6 +128,7 @@ def _choice_params(rng):
 
 
 inverse_choice = Exercise(
+    params_name="p_inverse",
     id="demo.inverse-choice", points=1, title="Inverse of a rotation matrix", kind="choice",
     answer="choice_inverse",
     statement="The inverse of a rotation matrix R is {options}. Set the answer to the letter.",

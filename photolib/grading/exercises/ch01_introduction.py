@@ -66,6 +66,7 @@ def _wrong_class(index):
 
 
 classes = Exercise(
+    params_name="p_classes",
     id="int.classes", points=1, kind="choice", answer="choice_class",
     title="Classes of photogrammetry / Einteilung",
     statement="Task: {task}. Which class of photogrammetry by the number of images is this: "
@@ -93,6 +94,7 @@ def _history_params(rng):
 
 
 history = Exercise(
+    params_name="p_history",
     id="int.history", points=1, kind="choice", answer="choice_history",
     title="History / Geschichte",
     statement="When and where was the International Society for Photogrammetry (ISP, today "
@@ -119,6 +121,7 @@ def _scale_number(p):
 
 
 scale_number = Exercise(
+    params_name="p_scale",
     id="int.scale-number", points=2, kind="number", answer="m_b",
     title="Image scale number / Bildmaßstabszahl",
     statement="An aerial camera with the camera constant c = {c_mm} mm takes a vertical image "
@@ -177,6 +180,7 @@ def _unless_right(wrong):
 
 
 images = Exercise(
+    params_name="p_images",
     id="int.images", points=3, kind="number", answer="n_images",
     title="Planning a photo flight / Bildflugplanung",
     statement="A block of {length_km} km (along the flight) × {width_km} km is flown at "
@@ -222,6 +226,7 @@ def _ground_cases(rng, p):
 
 
 ground_size = Exercise(
+    params_name="p_ground",
     id="int.ground-size", points=2, kind="function", answer="ground_size",
     title="Ground coverage / Bodenabdeckung",
     statement="A camera has a square image format of {format_mm} mm × {format_mm} mm and "

@@ -43,6 +43,7 @@ def _image_distance(p, sign=-1.0):
 
 
 image_distance = Exercise(
+    params_name="p_distance",
     id="opt.image-distance", points=2, kind="number", answer="a_image",
     title="Image distance / Bildweite",
     statement="A thin lens of focal length f = {f_mm} mm is focused on an object at the "
@@ -89,6 +90,7 @@ def _dof_printed_t(expr, p):
 
 
 depth_of_field = Exercise(
+    params_name="p_dof",
     id="opt.depth-of-field", points=3, kind="array", answer="dof",
     title="Depth of field / Schärfentiefe",
     statement="A camera with a lens of f = {f_mm} mm at f-number k = {k} is focused on "
@@ -120,6 +122,7 @@ _NM = ("λ was given in nm and the result read as µm (or the other way round): 
        "1 µm = 1000 nm")
 
 airy_radius = Exercise(
+    params_name="p_airy",
     id="opt.airy-radius", points=2, kind="number", answer="r_airy",
     title="Airy disk / Beugungsscheibchen",
     statement="A diffraction-limited lens works at f-number k = {k} in light of wavelength "
@@ -157,6 +160,7 @@ def _snell(p, n1=None, n2=None, degrees_as_radians=False):
 
 
 snell = Exercise(
+    params_name="p_snell",
     id="opt.snell", points=2, kind="number", answer="beta_deg",
     title="Refraction / Lichtbrechung (Snell)",
     statement="A ray passes from {medium} (n1 = {n1}) into glass (n2 = {n2}) at the angle of "
@@ -191,6 +195,7 @@ def _corner(p, power=4, half=True, side=False):
 
 
 vignetting_corner = Exercise(
+    params_name="p_vignetting",
     id="opt.vignetting-corner", points=2, kind="number", answer="E_corner",
     title="Natural vignetting at the corner / Lichtabfall in der Bildecke",
     statement="A camera with the format {format} and camera constant c = {c_mm} mm has an "
@@ -248,6 +253,7 @@ def _limit_printed(expr, p):
 
 
 dof_limit = Exercise(
+    params_name="p_dof_limit",
     id="opt.dof-limit", points=3, kind="expression", answer="limit", symbols=("f", "k", "u"),
     positive=("f", "k", "u"),  # focal length, f-number and blur are positive quantities
     title="Depth-of-field limits derived / Herleitung der Schärfentiefe",
@@ -296,6 +302,7 @@ def _stop_letter(index):
 
 
 stop_down = Exercise(
+    params_name="p_stop",
     id="opt.stop-down", points=1, kind="choice", answer="choice_stop",
     title="Stopping down / Abblenden",
     statement="A photographer stops a lens down from f-number k = {k} to k = {k2} (twice "

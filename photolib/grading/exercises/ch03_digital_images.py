@@ -38,6 +38,7 @@ def _gsd_cm(p, pixel_factor=1e-3, c_factor=1.0, out=100.0):
 
 
 gsd = Exercise(
+    params_name="p_gsd",
     id="dig.gsd", points=2, kind="number", answer="gsd_cm",
     title="Ground sampling distance / Bodenpixelgröße",
     statement="A digital aerial camera has square pixels of {pixel_um} µm and the camera "
@@ -66,6 +67,7 @@ def _bits(p, rounding=math.ceil, log=math.log2):
 
 
 bits = Exercise(
+    params_name="p_bits",
     id="dig.bits", points=2, kind="number", answer="b",
     title="Bit depth for a dynamic range / Bittiefe und Dynamikumfang",
     statement="A sensor has a full well (Fassungsvermögen) of {full_well} e⁻ and a read noise "
@@ -94,6 +96,7 @@ def _sigma_q(p):
 
 
 quant_noise = Exercise(
+    params_name="p_quant",
     id="dig.quant-noise", points=2, kind="number", answer="sigma_q",
     title="Quantisation noise / Quantisierungsrauschen",
     statement="A {bits}-bit camera maps its full well of {full_well} e⁻ onto the largest grey "
@@ -141,6 +144,7 @@ def _snr_db(p, shot=True, read=True, quant=True, factor=20.0):
 
 
 snr_db = Exercise(
+    params_name="p_snr",
     id="dig.snr-db", points=3, kind="number", answer="snr_db",
     title="Signal-to-noise ratio in dB / Signal-Rausch-Verhältnis",
     statement="A pixel collects a mean signal of S = {signal} e⁻ (photon shot noise: Poisson). "
@@ -185,6 +189,7 @@ def _option(index):
 
 
 bayer_green = Exercise(
+    params_name="p_bayer",
     id="dig.bayer-green", points=1, kind="choice", answer="choice_green",
     title="Bayer mosaic / Bayer-Muster",
     statement="A colour camera has a Bayer filter mosaic (RGGB). Which share of its pixels "
@@ -214,6 +219,7 @@ def _height_cases(rng, p):
 
 
 gsd_function = Exercise(
+    params_name="p_gsd_fn",
     id="dig.gsd-function", points=3, kind="function", answer="gsd_of_height",
     title="GSD as a function of the flying height",
     statement="For a camera with {pixel_um} µm pixels and c = {c_mm} mm write gsd_of_height(H) "

@@ -70,6 +70,7 @@ _REVERSED_PRODUCT_MESSAGE = ("this is the κ-φ-ω product R_κ·R_φ·R_ω (the
 
 
 opk_matrix = Exercise(
+    params_name="p_opk",
     id="rot.opk-matrix", points=3, kind="rotation", answer="R",
     title="Rotation matrix from an aerial attitude (Drehmatrix aus der Fluglage)",
     statement="An aerial image was taken with roll ω = {omega_gon} gon (Querneigung), pitch "
@@ -125,10 +126,11 @@ def _angles_arctan(p):
 
 
 angles_from_matrix = Exercise(
+    params_name="p_angles",
     id="rot.angles-from-matrix", points=3, kind="array", answer="angles_deg",
     title="Angles from a rotation matrix (Winkel aus der Drehmatrix)",
     statement="A close-range camera has the rotation matrix (Drehmatrix, R = R_ω·R_φ·R_κ)\n"
-              "R = {matrix}\n(also as the list p.R). Recover the angles and give them as the "
+              "R = {matrix}\n(also as the list p_angles.R). Recover the angles and give them as the "
               "NumPy array [ω, φ, κ] in degrees, with φ in [−90°, 90°] and ω, κ in "
               "(−180°, 180°].",
     parameters=_angles_params, reference=_angles_reference, rtol=0.0, atol=1e-4,
@@ -181,6 +183,7 @@ def _derivative_order(p):
 
 
 matrix_derivative = Exercise(
+    params_name="p_deriv",
     id="rot.matrix-derivative", points=3, kind="expression", answer="dR",
     symbols=("omega", "phi", "kappa"),
     title="Derivative of the rotation matrix (Ableitung der Drehmatrix)",
@@ -254,6 +257,7 @@ def _gon_as_degrees(p):
 
 
 ray_direction = Exercise(
+    params_name="p_ray",
     id="rot.ray-direction", points=3, kind="function", answer="ray_direction",
     title="Image ray in the object frame (Bildstrahl im Objektsystem)",
     statement="Your camera is {camera} with camera constant c = {c_mm} mm (Kamerakonstante); "

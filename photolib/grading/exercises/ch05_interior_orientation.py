@@ -69,6 +69,7 @@ def _field_tolerance(p):
 
 
 field_angle = Exercise(
+    params_name="p_field",
     id="io.field-angle", points=2, kind="number", answer="tau_deg",
     title="Half format angle (halber Formatwinkel / Bildwinkel)",
     statement="A close-range camera has a sensor of {W} × {H} pixels of {pixel_um} µm "
@@ -130,6 +131,7 @@ def _radial(p, balanced=None, divide=True):
 
 
 radial_factor = Exercise(
+    params_name="p_radial",
     id="io.radial-factor", points=2, kind="expression", answer="radial",
     symbols=("r", "x", "y", "A1", "A2", "A3", "r0"),
     title="Radial-symmetric distortion (radialsymmetrische Verzeichnung)",
@@ -168,6 +170,7 @@ def _vector(p, ideal=None):
 
 
 image_vector = Exercise(
+    params_name="p_vector",
     id="io.image-vector", points=3, kind="array", answer="x_star",
     title="Image vector of a measured point (Bildvektor)",
     statement="A camera has the camera constant c = {c_mm} mm (Kamerakonstante), the principal "
@@ -218,6 +221,7 @@ def _lens_cases(rng, p):
 
 
 measured_position = Exercise(
+    params_name="p_lens",
     id="io.measured-position", points=3, kind="function", answer="measured_position",
     title="Where is an ideal point measured? (Iteration der Verzeichnung)",
     statement="Your lens has the balanced radial distortion (Verzeichnung) A1 = {A1:.3e} mm⁻², "
@@ -286,11 +290,12 @@ def _plumb_tolerance(p):
 
 
 plumb_line_exercise = Exercise(
+    params_name="p_plumb",
     id="io.plumb-line", points=3, kind="array", answer="plumb",
     title="Plumb-line calibration (Kalibrierung mit Lotlinien, Plumblines)",
     statement="Eight lines that are straight in object space were imaged by a camera with "
               "c = {c_mm} mm (Kamerakonstante). Their measured points, in mm and reduced to the "
-              "principal point (Bildhauptpunkt), are in p.lines: a list of 8 lines, each a "
+              "principal point (Bildhauptpunkt), are in p_plumb.lines: a list of 8 lines, each a "
               "list of 13 points (x′, y′); the first point is {first}. The coordinates have "
               "a noise of about {noise_um} µm. Estimate the radial distortion coefficient A1 "
               "of the course model (Seidel form, r0 = 0, no other distortion term) so that "

@@ -78,6 +78,7 @@ def _project_formula(p, transpose=False):
 
 
 project = Exercise(
+    params_name="p_project",
     id="col.project", points=3, kind="array", answer="xy",
     title="Image coordinates of a ground point (Bildkoordinaten, Kollinearitätsgleichungen)",
     statement="An aerial image has the exterior orientation (äußere Orientierung): "
@@ -119,6 +120,7 @@ def _partial(p, transpose=False, c_sign=1, numerator_only=False):
 
 
 partial_derivative = Exercise(
+    params_name="p_partial",
     id="col.partial-derivative", points=3, kind="expression", answer="derivative",
     symbols=("r11", "r12", "r13", "r21", "r22", "r23", "r31", "r32", "r33",
              "X", "Y", "Z", "X0", "Y0", "Z0", "c", "x0", "y0"),
@@ -195,6 +197,7 @@ def _dy_dphi_done_wrongly(p, transpose=False, phi_sense=1):
 
 
 dy_dphi = Exercise(
+    params_name="p_dy",
     id="col.dy-dphi", points=3, kind="number", answer="dy_dphi",
     title="∂y'/∂φ for a close-range image (Luhmann 4.18)",
     statement="A close-range camera has the " + _ORIENTATION_TEXT
@@ -250,6 +253,7 @@ def _ground_cases(rng, p):
 
 
 ground_point = Exercise(
+    params_name="p_mono",
     id="col.ground-point", points=3, kind="function", answer="ground_point",
     title="Monoplotting onto a plane (Monoplotting)",
     statement="Your aerial image has the exterior orientation (äußere Orientierung): "

@@ -82,11 +82,12 @@ def _helmert_notes_sign(p):
 
 
 helmert_two_points = Exercise(
+    params_name="p_helmert",
     id="plane.helmert-two-points", points=3, kind="array", answer="helmert",
     title="Helmert transformation from two points (Helmert-Transformation aus zwei Punkten)",
     statement="Two points were measured in a local site system (x, y) [m] and are known in "
               "the map system (X, Y) [m]: P1 {P1} → {Q1}, P2 {P2} → {Q2} (also as the lists "
-              "p.src and p.dst). Determine the 4-parameter similarity (Helmert) transformation "
+              "p_helmert.src and p_helmert.dst). Determine the 4-parameter similarity (Helmert) transformation "
               "local → map of the course, X = a0 + a1·x − b1·y, Y = b0 + b1·x + a1·y, and give "
               "the NumPy array [a0, b0, a1, b1].",
     parameters=_helmert_params, reference=_helmert_reference, tolerance=_helmert_tolerance,
@@ -117,6 +118,7 @@ def _angle_arctan(p):
 
 
 helmert_angle = Exercise(
+    params_name="p_angle",
     id="plane.helmert-angle", points=2, kind="number", answer="alpha_gon",
     title="Rotation angle of a Helmert transformation (Drehwinkel)",
     statement="A Helmert transformation X = a0 + a1·x − b1·y, Y = b0 + b1·x + a1·y has "
@@ -172,11 +174,12 @@ def _projective_reference(p):
 
 
 projective_point = Exercise(
+    params_name="p_proj",
     id="plane.projective-point", points=3, kind="array", answer="XY",
     title="Projective transformation from four points (Projektivtransformation)",
     statement="A façade was photographed obliquely. Its four corners have the façade "
               "coordinates (X, Y) [m] {obj_text} and were measured in the image at "
-              "(x', y') [mm] {img_text}, in the same order (also as p.obj and p.img). "
+              "(x', y') [mm] {img_text}, in the same order (also as p_proj.obj and p_proj.img). "
               "Determine the projective transformation image → façade (Luhmann 2.18, "
               "X = (a0 + a1·x' + a2·y')/(1 + c1·x' + c2·y'), …) and give the façade "
               "coordinates of the window corner measured at (x', y') = {P_text} mm as the "
@@ -225,6 +228,7 @@ def _cross_tolerance(p):
 
 
 cross_ratio = Exercise(
+    params_name="p_cross",
     id="plane.cross-ratio", points=2, kind="number", answer="s_D",
     title="Distance from the cross ratio (Doppelverhältnis)",
     statement="Four points A, B, C, D on a straight kerb are imaged on a line of the photo at "
@@ -276,6 +280,7 @@ def _solved_reference(p):
 _old_print = hints.erratum_version("luhmann:2.21", lambda expr, p: _solve_for(str(expr), p["point"]))
 
 cross_ratio_solved = Exercise(
+    params_name="p_cross_sym",
     id="plane.cross-ratio-solved", points=2, kind="expression", answer="t_solved",
     symbols=("t_A", "t_B", "t_C", "t_D", "lam"),
     title="The cross ratio solved for one point (Doppelverhältnis nach einem Punkt aufgelöst)",
@@ -341,12 +346,13 @@ def _fiducial_pixel_grid(p):
 
 
 fiducial_affine = Exercise(
+    params_name="p_affine",
     id="plane.fiducial-affine", points=3, kind="array", answer="xy_image",
     title="Image coordinates from fiducial marks (Bildkoordinaten aus Rahmenmarken)",
     statement="An analogue aerial photograph was scanned to {W} × {H} pixels of {pixel_um} µm. "
               "Its four corner fiducial marks (Rahmenmarken) have the calibrated image "
               "coordinates (x', y') [mm] {cal_text} and were measured in the scan at "
-              "(col, row) [pixel] {pix_text}, in the same order (p.cal, p.pix). The scanner "
+              "(col, row) [pixel] {pix_text}, in the same order (p_affine.cal, p_affine.pix). The scanner "
               "may scale, shear and turn the image. Estimate the affine transformation "
               "(col, row) → (x', y') by least squares from the four marks (interior "
               "orientation) and give the image coordinates of the point measured at "
@@ -421,12 +427,13 @@ def _bilinear_cases(rng, p):
 
 
 bilinear_function = Exercise(
+    params_name="p_bil",
     id="plane.bilinear-function", points=3, kind="function", answer="bilinear",
     title="A bilinear transformation as a function (bilineare Transformation)",
     statement="A distorted map sheet is corrected with the bilinear transformation from sheet "
               "coordinates (x, y) [mm] to grid coordinates (X, Y) [m]: "
               "X = a0 + a1·x + a2·y + a3·x·y, Y = b0 + b1·x + b2·y + b3·x·y with {text} "
-              "(also p.a0, …, p.b3). Write bilinear(x, y) returning the NumPy array [X, Y]. It "
+              "(also p_bil.a0, …, p_bil.b3). Write bilinear(x, y) returning the NumPy array [X, Y]. It "
               "is tested on sheet points you do not see.",
     parameters=_bilinear_params, reference=_bilinear_function, cases=_bilinear_cases,
     rtol=1e-6, atol=1e-6,

@@ -77,6 +77,7 @@ def _redundancy(p, per_point=2, unknowns=None):
 
 
 redundancy = Exercise(
+    params_name="p_redundancy",
     id="rdl.redundancy", points=2, kind="number", answer="r",
     title="Redundancy / Redundanz (Überbestimmung)",
     statement="{n} control points (Passpunkte) with known X, Y, Z are measured in one image. "
@@ -124,6 +125,7 @@ _CAMERA_TEXT = ("camera constant (Kamerakonstante) c = {c_mm} mm, principal poin
                 "X0 = ({X0}, {Y0}, {Z0}) m, ω = {omega_deg}°, φ = {phi_deg}°, κ = {kappa_deg}°")
 
 dlt_vector = Exercise(
+    params_name="p_dlt",
     id="rdl.dlt-vector", points=3, kind="array", answer="L",
     title="DLT parameters of a known camera (DLT-Parameter)",
     statement="A close-range camera has the " + _CAMERA_TEXT + " (c_x = c_y = c, no shear, no "
@@ -188,6 +190,7 @@ def _interior_no_D2(p):
 
 
 dlt_interior = Exercise(
+    params_name="p_interior",
     id="rdl.dlt-interior", points=3, kind="array", answer="interior",
     title="Interior orientation from the DLT (Luhmann 4.26, example 4.3)",
     statement="A DLT of a close-range image gave (image unit mm, object unit m) "
@@ -241,6 +244,7 @@ def _coefficient(p, transpose=False, c_sign=1, normalise=True, d_sign=1, x0_sign
 
 
 dlt_coefficient = Exercise(
+    params_name="p_coef",
     id="rdl.dlt-coefficient", points=3, kind="expression", answer="Lk",
     symbols=("r11", "r12", "r13", "r21", "r22", "r23", "r31", "r32", "r33",
              "X0", "Y0", "Z0", "c", "x0", "y0"),
@@ -302,6 +306,7 @@ def _image_cases(rng, p):
 
 
 image_point = Exercise(
+    params_name="p_img",
     id="rdl.image-point", points=3, kind="function", answer="image_point",
     title="Image coordinates from the DLT parameters (Bildkoordinaten aus der DLT)",
     statement="The DLT of an aerial image (image unit mm, object unit m) is "

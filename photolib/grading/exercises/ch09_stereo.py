@@ -47,6 +47,7 @@ def _height(p, c=None, B=None):
 
 
 height = Exercise(
+    params_name="p_height",
     id="st.height", points=2, kind="number", answer="Z",
     title="Height from parallax / Höhe aus der x-Parallaxe",
     statement="A stereo pair in the normal case (Normalfall): camera constant c = {c_mm} mm, "
@@ -92,6 +93,7 @@ def _sigma_z(p, factor=_SQRT2, base_ratio=True):
 
 
 sigma_z = Exercise(
+    params_name="p_sigma",
     id="st.sigma-z", points=3, kind="number", answer="sigma_Z",
     title="Accuracy of a stereo pair / Genauigkeit im Normalfall (example 3.7)",
     statement="A close-range stereo pair in the normal case: c = {c_mm} mm, object distance "
@@ -153,6 +155,7 @@ def _intersection_cases(rng, p):
 
 
 intersection = Exercise(
+    params_name="p_int",
     id="st.intersection", points=3, kind="function", answer="point",
     title="Forward intersection in the normal case / Vorwärtsschnitt im Normalfall",
     statement="A stereo camera in the normal case: c = {c_mm} mm, principal point "
@@ -195,6 +198,7 @@ def _essential(p, swap_R=False, base_sign=1.0):
 
 
 essential = Exercise(
+    params_name="p_essential",
     id="st.essential", points=3, kind="array", answer="E",
     title="Essential matrix / Essentielle Matrix (coplanarity)",
     statement="Two images are oriented: X01 = {X01} m, ω1 = {omega1_deg}°, φ1 = {phi1_deg}°, "
@@ -269,6 +273,7 @@ def _swapped(p):
 
 
 unknowns = Exercise(
+    params_name="p_unknowns",
     id="st.unknowns", points=1, kind="choice", answer="choice_unknowns",
     title="Unknowns of the orientations / Unbekannte der Orientierungen",
     statement="{lead} How many unknowns does {task} have ({counted})? "

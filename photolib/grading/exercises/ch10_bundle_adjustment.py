@@ -55,6 +55,7 @@ def _redundancy(p, per_ray=2, interior=True, defect=True, control_fixed=True):
 
 
 redundancy = Exercise(
+    params_name="p_redundancy",
     id="bun.redundancy", points=2, kind="number", answer="r",
     title="Unknowns and redundancy of a block / Redundanz eines Bildverbands",
     statement="A block of {images} images and {points} object points; {rays} image points "
@@ -91,6 +92,7 @@ def _sigma0(p, divisor=None, root=True):
 
 
 sigma0 = Exercise(
+    params_name="p_sigma0",
     id="bun.sigma0", points=2, kind="number", answer="s0",
     title="σ0 from the residuals / Standardabweichung der Gewichtseinheit",
     statement="An adjustment with equal weights has n = {n} observations and u = {u} "
@@ -139,6 +141,7 @@ def _sum_params(rng):
 
 
 redundancy_sum = Exercise(
+    params_name="p_rsum",
     id="bun.redundancy-sum", points=1, kind="choice", answer="choice_sum",
     title="Redundancy numbers / Redundanzanteile",
     statement="A free network (no control points, inner constraints) of {images} images and "
@@ -170,6 +173,7 @@ def _critical(p, test="t", alpha=None):
 
 
 critical_t = Exercise(
+    params_name="p_t",
     id="bun.critical-t", points=2, kind="number", answer="k",
     title="Critical value of the t test / Kritischer Wert (t-Verteilung)",
     statement="σ0 of a small adjustment is estimated with r = {dof} degrees of freedom. A "
@@ -207,6 +211,7 @@ def _contribution_cases(rng, p):
 
 
 normal_contribution = Exercise(
+    params_name="p_con",
     id="bun.normal-contribution", points=3, kind="function", answer="contribution",
     title="One observation in the normal equations / Beitrag zur Normalgleichungsmatrix",
     statement="An image coordinate with standard deviation σ (mm, a priori; σ0 = 1 mm) has "

@@ -61,6 +61,7 @@ def _subs_r_sigma(expr, p):
 
 
 log_value = Exercise(
+    params_name="p_log",
     id="im.log-value", points=2, kind="number", answer="log_value",
     title="Laplacian of Gaussian / LoG (Luhmann 5.42)",
     statement="The LoG operator uses the normalised Gaussian G(x, y) = exp(−r²/(2σ²))/(2πσ²), "
@@ -127,6 +128,7 @@ def _p1_sample_variance(p):
 
 
 moment_p1 = Exercise(
+    params_name="p_moment",
     id="im.moment-p1", points=3, kind="number", answer="p1",
     title="Moment-preserving threshold / momentenerhaltender Schwellwert (5.49, 5.50)",
     statement="An image of n = {n} pixels has the histogram (grey value: count) {hist}. "
@@ -175,6 +177,7 @@ def _circle_no_twos(p):
 
 
 circle_conic = Exercise(
+    params_name="p_circle",
     id="im.circle-conic", points=3, kind="array", answer="circle",
     title="Circle from the general conic / Kreis (Luhmann 2.86)",
     statement="A circle fit gave the conic A(x² + y²) + 2Dx + 2Ey + F = 0 with A = {A}, "
@@ -221,6 +224,7 @@ def _centroid_plain(p, binary=False, threshold=True):
 
 
 centroid = Exercise(
+    params_name="p_centroid",
     id="im.centroid", points=3, kind="array", answer="centroid",
     title="Centroid of a target / Schwerpunkt einer Zielmarke",
     statement="A bright target is imaged in the 5 × 5 patch (rows from top, grey values) "
@@ -276,6 +280,7 @@ def _lsm_cases(rng, p):
 
 
 lsm_row = Exercise(
+    params_name="p_lsm",
     id="im.lsm-row", points=3, kind="function", answer="lsm_row",
     title="A row of the LSM design matrix / Kleinste-Quadrate-Zuordnung (5.72)",
     statement="Least-squares matching models f(x, y) − e = r0 + r1·g(x', y') with "
@@ -316,6 +321,7 @@ def _conic_centre(p, halves=False, other=False):
 
 
 conic_centre = Exercise(
+    params_name="p_conic",
     id="im.conic-centre", points=3, kind="expression", answer="centre_coordinate",
     symbols=("a", "c", "d", "e", "f"),
     title="Centre of an ellipse from its conic / Mittelpunkt aus der Kegelschnittgleichung",

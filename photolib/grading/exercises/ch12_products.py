@@ -46,6 +46,7 @@ def _relief(p):
 
 
 relief = Exercise(
+    params_name="p_relief",
     id="prd.relief-displacement", points=2, kind="number", answer="dr",
     title="Relief displacement / radiale Versetzung",
     statement="A vertical aerial image (camera constant c = {c_mm} mm) is taken {H} m above "
@@ -109,6 +110,7 @@ def _ortho_cases(rng, p):
 
 
 ortho_to_image = Exercise(
+    params_name="p_ortho",
     id="prd.ortho-to-image", points=3, kind="function", answer="image_point",
     title="Ortho pixel → image point (differentielle Entzerrung, indirect)",
     statement="An aerial image has c = {c_mm} mm, no distortion, principal point at the "
@@ -151,6 +153,7 @@ def _dtm_accuracy(p, radius=None):
 
 
 dtm_accuracy = Exercise(
+    params_name="p_dtm",
     id="prd.dtm-accuracy", points=2, kind="number", answer="dZ",
     title="How good must the DTM be? (Genauigkeit des DGM)",
     statement="An orthophoto is made from vertical images with c = {c_mm} mm and the format "
@@ -217,6 +220,7 @@ def _product_mistake(n):
 
 
 product = Exercise(
+    params_name="p_product",
     id="prd.product", points=1, kind="choice", answer="choice_product",
     title="Which product? (Welches Produkt?)",
     statement="Task: {task}. Which product fits best? {options}. Set the answer to the letter.",
@@ -237,6 +241,7 @@ def _occluded(p):
 
 
 occluded = Exercise(
+    params_name="p_occluded",
     id="prd.occluded-length", points=2, kind="number", answer="L",
     title="Hidden ground behind a building (sichttote Fläche)",
     statement="A vertical image is taken {H} m above flat ground. The far wall of a building "
