@@ -6,7 +6,7 @@ Why not ``with output: display(fig)``? Two reasons, both measured:
   course laptop; a slider then lags. :class:`LiveFigure` draws the static part (axes, ticks,
   object frame) once, keeps that background, and per update redraws only the artists that
   move ("blitting", as matplotlib's animation module does) and encodes the PNG with fast
-  compression: about 10 ms.
+  compression (:func:`png_rgb`): about 10–20 ms at twice the CSS resolution.
 * Reproducible notebooks. Output captured by ``with output:`` is routed by the *frontend*;
   ``jupyter nbconvert --execute`` stores it in the widget state, while nbval (which ignores
   widget messages) sees it as cell output, so the committed notebook and the test disagree.
@@ -30,17 +30,17 @@ from __future__ import annotations
 
 import base64
 import functools
-import io
 import math
+import struct
+import zlib
 
 import ipywidgets as widgets
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
-from PIL import Image
 
 __all__ = ["CSS_DPI", "PIXEL_RATIO", "Explorer", "LiveFigure", "Panel", "align_sliders", "finished",
-           "label_width", "px", "slider", "slider_track_px"]
+           "label_width", "png_rgb", "px", "slider", "slider_track_px"]
 
 #: CSS pixels per inch of the widgets' figures (their layout size: ``figsize`` × 80)
 CSS_DPI = 80
@@ -120,11 +120,7 @@ class LiveFigure:
             if hasattr(artist, "do_3d_projection"):
                 artist.do_3d_projection()
             artist.draw(renderer)
-        buf = np.asarray(canvas.buffer_rgba())
-        image = Image.fromarray(buf[..., :3].copy())
-        stream = io.BytesIO()
-        image.save(stream, format="png", compress_level=1)
-        self.png = stream.getvalue()
+        self.png = png_rgb(np.asarray(canvas.buffer_rgba())[..., :3])
         self.output.outputs = ({
             "output_type": "display_data",
             "data": {"image/png": base64.b64encode(self.png).decode("ascii"),
@@ -133,6 +129,31 @@ class LiveFigure:
             "metadata": {"image/png": {"width": self.css_size[0], "height": self.css_size[1]}},
         },)
         return self.png
+
+
+def _png_chunk(tag: bytes, data: bytes) -> bytes:
+    return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(tag + data))
+
+
+def png_rgb(rgb) -> bytes:
+    """A PNG of an (H, W, 3) ``uint8`` image: no row filter, zlib at its fastest level.
+
+    Twice as fast as Pillow's encoder (which tries a filter per row) for the same size on
+    the flat colours of a plot; a 2× widget figure (1.2 megapixels) takes some 10 ms.
+
+    >>> from PIL import Image; import io
+    >>> rgb = np.arange(24, dtype=np.uint8).reshape(2, 4, 3)
+    >>> np.array_equal(np.asarray(Image.open(io.BytesIO(png_rgb(rgb)))), rgb)
+    True
+    """
+    rgb = np.asarray(rgb, dtype=np.uint8)
+    h, w, _ = rgb.shape
+    raw = np.empty((h, 3 * w + 1), dtype=np.uint8)
+    raw[:, 0] = 0                                  # filter type of each row: none
+    raw[:, 1:] = rgb.reshape(h, 3 * w)
+    header = struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0)  # 8 bit, truecolour
+    return (b"\x89PNG\r\n\x1a\n" + _png_chunk(b"IHDR", header)
+            + _png_chunk(b"IDAT", zlib.compress(raw.tobytes(), 1)) + _png_chunk(b"IEND", b""))
 
 
 class Panel(widgets.VBox):

@@ -267,10 +267,10 @@ class ReliefExplorer(Explorer):
         self._finish()
 
     def _set_span(self, dr) -> None:
-        """Rescale the zoom only when Δr outgrows it or shrinks below a fifth of it: a new
+        """Rescale the zoom only when Δr outgrows it or shrinks below a tenth of it: a new
         scale means a full redraw (new ticks), a blitted update is several times cheaper."""
         span = zoom_span(dr)
-        if self._span is not None and span <= self._span and 1.25 * dr >= 0.2 * self._span:
+        if self._span is not None and span <= self._span and 1.25 * dr >= 0.1 * self._span:
             return
         self._span = span
         _zoom_axis(self._zoom, span)
