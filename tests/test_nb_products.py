@@ -161,9 +161,11 @@ def test_every_value_redraws(cls, name, values):
 
 def test_static_figures_have_their_artists():
     fig = npr.plot_relief_geometry()
-    assert len(fig.axes) == 2 and len(fig.axes[0].lines) == 6
+    assert len(fig.axes) == 3 and len(fig.axes[0].lines) == 6
     rep = npr.relief_report()
     assert [ln.get_xdata()[0] for ln in fig.axes[1].lines[-2:]] == [rep["r_foot"], rep["r_top"]]
+    # the zoom: r − r_foot
+    assert [ln.get_xdata()[0] for ln in fig.axes[2].lines[-2:]] == [0.0, rep["dr"]]
     fig = npr.plot_products({"a": np.zeros((4, 5)), "b": np.full((4, 5), np.nan)})
     assert len(fig.axes) == 2
     src = np.zeros((10, 12), int)

@@ -23,13 +23,14 @@ import gc
 import importlib
 from importlib import metadata
 
-from photolib.nb.text import matrix_html, rounded, show
+from photolib.nb.text import formulas, matrix_html, rounded, show
 
 __all__ = [
     "REQUIREMENTS",
     "bundle",
     "check_environment",
     "distortion",
+    "formulas",
     "glossary",
     "intro",
     "matrix_html",

@@ -252,15 +252,16 @@ class IterationExplorer(Explorer):
         self.controls = {"A1": slider("A1 [1e-5/mm²]", A1, -100, 100, 1),
                          "A2": slider("A2 [1e-8/mm⁴]", A2, -20, 20, 0.5),
                          "radius": slider("r' of point [mm]", radius, 1, 21.5, 0.5)}
-        self.live = LiveFigure((4.6, 3.0))
+        self.live = LiveFigure((5.6, 3.0))
         ax = self.live.figure.add_subplot()
-        self.live.figure.subplots_adjust(0.16, 0.15, 0.97, 0.9)
+        self.live.figure.subplots_adjust(0.13, 0.15, 0.78, 0.9)
         ax.set(yscale="log", xlim=(0, 31), ylim=(1e-14, 1e2), xlabel="iteration",
                ylabel="largest step [mm]", title="convergence of the iteration")
         ax.axhline(1e-12, color="0.5", ls=":", lw=1)
         self._fixed = self.live.animate(ax.plot([], [], "o-", ms=3, label="fixed point")[0])
         self._newton = self.live.animate(ax.plot([], [], "s-", ms=3, label="Newton")[0])
-        ax.legend(loc="upper right", fontsize=8)
+        # beside the axes: inside, a diverging iteration's points pass under it
+        ax.legend(loc="upper left", fontsize=8, bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
         self.report = None
         self._finish()
 

@@ -158,8 +158,15 @@ def lines_xyz(segments) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return tuple(flat[:, i] for i in range(s.shape[2]))
 
 
-def setup_axes3d(ax, limits, labels=("X", "Y", "Z"), elev: float = 22, azim: float = -60):
-    """Fixed limits, equal aspect, a fixed view and axis labels for a 3-D axes."""
+def setup_axes3d(ax, limits, labels=("X", "Y", "Z"), elev: float = 22, azim: float = -60,
+                 nbins: int = 4):
+    """Fixed limits, equal aspect, a fixed view and axis labels for a 3-D axes.
+
+    At most ``nbins`` + 1 ticks per axis: in the small 3-D panels of the widgets more tick
+    labels (such as −40, −30, …, 40) run into each other (``tests/test_nb.py`` checks).
+    """
+    from matplotlib.ticker import MaxNLocator
+
     (x0, x1), (y0, y1), (z0, z1) = limits
     ax.set_xlim(x0, x1)
     ax.set_ylim(y0, y1)
@@ -169,5 +176,7 @@ def setup_axes3d(ax, limits, labels=("X", "Y", "Z"), elev: float = 22, azim: flo
     ax.set_ylabel(labels[1])
     ax.set_zlabel(labels[2])
     ax.view_init(elev=elev, azim=azim)
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
+        axis.set_major_locator(MaxNLocator(nbins=nbins, steps=[1, 2, 2.5, 5, 10]))
     ax.tick_params(labelsize=7, pad=0)
     return ax

@@ -317,16 +317,17 @@ class EllipseExplorer(Explorer):
     def __init__(self, arc_deg=360.0, noise=0.05):
         self.controls = {"arc_deg": slider("arc [°]", arc_deg, 30.0, 360.0, 10.0, fmt=".0f"),
                          "noise": slider("noise σ", noise, 0.0, 0.5, 0.01, fmt=".2f")}
-        self.live = LiveFigure((4.4, 3.3))
+        self.live = LiveFigure((5.4, 3.3))
         ax = self.live.figure.add_subplot()
-        self.live.figure.subplots_adjust(0.12, 0.12, 0.98, 0.92)
+        self.live.figure.subplots_adjust(0.1, 0.12, 0.76, 0.92)
         ax.plot(*_ellipse_curve(*ELLIPSE_TRUE).T, color="0.7", lw=3, label="true")
         (self._fit,) = ax.plot([], [], color="#1f77b4", label="ellipse fit")
         (self._circle,) = ax.plot([], [], ":", color="#ff7f0e", label="circle fit")
         (self._pts,) = ax.plot([], [], ".", color="k", ms=4)
         (self._centre,) = ax.plot([], [], "+", color="#d62728", ms=10, mew=2)
         ax.set(xlim=(-6, 12), ylim=(-5, 9), aspect="equal", title="ellipse / Ellipse")
-        ax.legend(fontsize=7, loc="lower right")
+        # beside the axes: inside, the fitted curves and points pass under it
+        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
         for artist in (self._fit, self._circle, self._pts, self._centre):
             self.live.animate(artist)
         self.report = None

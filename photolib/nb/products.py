@@ -21,7 +21,7 @@ __all__ = [
     "BUILDINGS", "C_MM", "ORTHO", "OrthoErrorExplorer", "ReliefExplorer", "TrueOrthoExplorer",
     "building_scene", "camera", "dsm", "dtm", "ortho_error_report", "plot_height_models",
     "plot_mosaic", "plot_ortho_map", "plot_products", "plot_relief_geometry", "relief_report", "render", "terrain",
-    "texture", "true_ortho_report", "Z_REF",
+    "texture", "true_ortho_report", "Z_REF", "zoom_span",
 ]
 
 C_MM = 50.0
@@ -173,13 +173,37 @@ def _image_axis(ax, c=C_MM):
     ax.axhline(0, color="0.4", lw=1)
 
 
+#: spans of the zoomed image axis, mm: r − r_foot from −span/4 to span
+_ZOOM_SPANS = (0.5, 1.0, 2.0, 2.5, 5.0, 10.0, 20.0, 25.0, 50.0, 100.0, 200.0, 250.0)
+
+
+def zoom_span(dr: float) -> float:
+    """The span (mm) of the zoomed image axis for a displacement ``dr``: the smallest of
+    ``_ZOOM_SPANS`` that holds 1.25·dr, so that Δr fills at most 80 % of it.
+
+    >>> zoom_span(2.222), zoom_span(0.0), zoom_span(170.0)
+    (5.0, 0.5, 250.0)
+    """
+    need = 1.25 * abs(float(dr))
+    return next((s for s in _ZOOM_SPANS if s >= need), _ZOOM_SPANS[-1] * 2)
+
+
+def _zoom_axis(ax, span):
+    """The image radius around the foot, magnified: the relief displacement Δr fills it."""
+    ax.set(xlim=(-0.25 * span, span), ylim=(-1, 2.4), yticks=[], xlabel="r − r_foot [mm]",
+           title="zoom: Δr = r_top − r_foot")
+    ax.axhline(0, color="0.4", lw=1)
+
+
 def plot_relief_geometry(h=30.0, H=300.0, R=120.0, c=C_MM, exaggerate=1500.0):
-    """Side view of the relief displacement, and the two image points on the image radius."""
+    """Side view of the relief displacement, the two image points on the image radius, and
+    the same radius magnified around the foot (a few mm on the whole radius are a few pixels
+    of the figure; the zoom shows them)."""
     import matplotlib.pyplot as plt
 
     rep = relief_report(h, H, R, c)
     rays, tower, xs, img_z = _relief_lines(h, H, R, c, exaggerate)
-    fig, (ax, bx) = plt.subplots(2, 1, figsize=(6.0, 4.2), height_ratios=(4, 1))
+    fig, (ax, bx, zx) = plt.subplots(3, 1, figsize=(6.0, 5.0), height_ratios=(4, 1, 1))
     ax.plot([-20, R + 60], [0, 0], color="#8c564b", lw=2, label="reference plane")
     ax.plot(*tower.T, color="0.2", lw=4, label=f"tower, Δh = {h:g} m")
     for (a, b), colour, name in zip(rays, ("#1f77b4", "#d62728"), ("foot", "top")):
@@ -187,11 +211,17 @@ def plot_relief_geometry(h=30.0, H=300.0, R=120.0, c=C_MM, exaggerate=1500.0):
     ax.plot([0, xs.max() * 1.4], [img_z, img_z], color="0.4", lw=1, label="image plane (enlarged)")
     ax.plot(0, H, "k^", ms=7, label="projection centre")
     ax.set(xlabel="X [m]", ylabel="Z [m]", title="relief displacement / radiale Versetzung")
-    ax.legend(fontsize=7, loc="upper right")
+    # beside the axes: inside, it would cover the rays
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     _image_axis(bx, c)
     bx.plot([rep["r_foot"]], [0], "o", color="#1f77b4")
     bx.plot([rep["r_top"]], [0], "o", color="#d62728")
-    bx.annotate(f"Δr = {rep['dr']:.2f} mm", (rep["r_top"], 0), (rep["r_top"] + 2, 0.3), fontsize=8)
+    _zoom_axis(zx, zoom_span(rep["dr"]))
+    zx.plot([0.0], [0], "o", color="#1f77b4")
+    zx.plot([rep["dr"]], [0], "o", color="#d62728")
+    zx.annotate("", (rep["dr"], 0.7), (0.0, 0.7), arrowprops={"arrowstyle": "<->", "lw": 1})
+    zx.text(0.5 * rep["dr"], 1.0, f"Δr = {rep['dr']:.2f} mm", ha="center", va="bottom",
+            fontsize=8)
     fig.tight_layout()
     return finished(fig)
 
@@ -206,16 +236,18 @@ class ReliefExplorer(Explorer):
         self.controls = {"h": slider("tower Δh [m]", h, 0, 100, 1, fmt=".0f"),
                          "H": slider("flying H [m]", H, 150, 600, 10, fmt=".0f"),
                          "R": slider("distance R [m]", R, 0, 250, 5, fmt=".0f")}
-        self.live = LiveFigure((5.6, 3.8))
+        self.live = LiveFigure((5.6, 4.6))
         fig = self.live.figure
-        gs = fig.add_gridspec(2, 1, height_ratios=(4, 1))
+        gs = fig.add_gridspec(3, 1, height_ratios=(4, 1, 1))
         ax, bx = fig.add_subplot(gs[0]), fig.add_subplot(gs[1])
-        fig.subplots_adjust(0.13, 0.12, 0.98, 0.93, hspace=0.6)
+        zx = self._zoom = fig.add_subplot(gs[2])
+        fig.subplots_adjust(0.13, 0.1, 0.98, 0.94, hspace=0.95)
         ax.plot([-20, 320], [0, 0], color="#8c564b", lw=2)
         ax.set(xlim=(-20, 320), ylim=(-20, 640), xlabel="X [m]", ylabel="Z [m]",
                title=f"side view (image plane ×{self.exaggerate:g})")
         _image_axis(bx)
         bx.set(xlim=(0, 250 * C_MM / 60.0))
+        self._span = None
         (self._tower,) = ax.plot([], [], color="0.2", lw=4)
         (self._ray_foot,) = ax.plot([], [], color="#1f77b4", lw=1)
         (self._ray_top,) = ax.plot([], [], color="#d62728", lw=1)
@@ -223,11 +255,26 @@ class ReliefExplorer(Explorer):
         (self._centre,) = ax.plot([], [], "k^", ms=7)
         (self._foot,) = bx.plot([], [], "o", color="#1f77b4")
         (self._top,) = bx.plot([], [], "o", color="#d62728")
+        # the zoom: r − r_foot, the foot at 0, Δr between the two points
+        (self._zoom_foot,) = zx.plot([0.0], [0.0], "o", color="#1f77b4")
+        (self._zoom_top,) = zx.plot([], [], "o", color="#d62728")
+        (self._zoom_bar,) = zx.plot([], [], color="0.2", lw=1, marker="|", ms=6)
+        self._zoom_text = zx.text(0.0, 1.0, "", ha="center", va="bottom", fontsize=8)
         for a in (self._tower, self._ray_foot, self._ray_top, self._plane, self._centre,
-                  self._foot, self._top):
+                  self._foot, self._top, self._zoom_top, self._zoom_bar, self._zoom_text):
             self.live.animate(a)
         self.report = None
         self._finish()
+
+    def _set_span(self, dr) -> None:
+        """Rescale the zoom only when Δr outgrows it or shrinks below a tenth of it: a new
+        scale means a full redraw (new ticks), a blitted update is several times cheaper."""
+        span = zoom_span(dr)
+        if self._span is not None and span <= self._span and 1.25 * dr >= 0.1 * self._span:
+            return
+        self._span = span
+        _zoom_axis(self._zoom, span)
+        self.live.invalidate()
 
     def draw(self, h, H, R) -> str:
         h = min(h, H - 10.0)
@@ -240,6 +287,11 @@ class ReliefExplorer(Explorer):
         self._centre.set_data([0], [H])
         self._foot.set_data([rep["r_foot"]], [0])
         self._top.set_data([rep["r_top"]], [0])
+        self._set_span(rep["dr"])
+        self._zoom_top.set_data([rep["dr"]], [0])
+        self._zoom_bar.set_data([0.0, rep["dr"]], [0.7, 0.7])
+        self._zoom_text.set_position((0.5 * rep["dr"], 1.0))
+        self._zoom_text.set_text(f"Δr = {rep['dr']:.2f} mm")
         return rep["html"]
 
 

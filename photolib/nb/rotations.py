@@ -150,7 +150,8 @@ class RotationExplorer(Explorer):
                          "kappa": slider("κ (yaw) [°]", kappa, -180, 180, 1)}
         self.live = LiveFigure((4.2, 3.6))
         ax = self.live.figure.add_subplot(projection="3d")
-        self.live.figure.subplots_adjust(0, 0, 1, 1)
+        # room below and right of the axes for the X, Y and Z labels (tests/test_nb.py checks)
+        self.live.figure.subplots_adjust(0.0, 0.07, 0.95, 1.0)
         self._frame, self._pyramid = _camera_view(ax, self.live)
         self.report = None
         self._finish()
@@ -177,7 +178,7 @@ class OrderExplorer(Explorer):
             ax = fig.add_subplot(1, 2, i + 1, projection="3d")
             ax.set_title(name, fontsize=10)
             self._views.append(_camera_view(ax, self.live))
-        fig.subplots_adjust(0, 0, 1, 0.9, wspace=0.05)
+        fig.subplots_adjust(0.0, 0.08, 0.96, 0.9, wspace=0.12)
         self.report = None
         self._finish()
 

@@ -23,6 +23,7 @@ CHROMIUM = Path(os.environ.get("PHOTOLIB_CHROMIUM", "/usr/bin/chromium"))
 CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking",
                  "--disable-component-update", "--disable-sync", "--no-first-run"]
 ARTIFACTS = REPO / "test-artifacts" / "browser"
+SCREENSHOTS = REPO / "test-artifacts" / "screenshots"
 
 
 def _free_port() -> int:
@@ -52,6 +53,8 @@ def lab_url(lab_root, lab_log):
     """Start JupyterLab on a copy of the notebooks; yield its base URL."""
     root = lab_root
     shutil.copytree(REPO / "notebooks", root / "notebooks")
+    # the student copies, as a student opens them (they link to ../notebooks)
+    shutil.copytree(REPO / "exercises", root / "exercises")
     # cells outside the viewport are not in the DOM under JupyterLab 4's default
     # windowing; render them all so that every widget can be found and moved
     settings = root / "settings" / "@jupyterlab" / "notebook-extension"
@@ -125,6 +128,25 @@ def _shutdown_kernels(url: str) -> None:
     for s in sessions:
         req = urllib.request.Request(f"{url}/api/sessions/{s['id']}", method="DELETE")
         urllib.request.urlopen(req, timeout=30).close()
+
+
+@pytest.fixture(scope="session")
+def screenshots() -> Path:
+    """``test-artifacts/screenshots`` (gitignored): what a student sees, at device scale 2."""
+    SCREENSHOTS.mkdir(parents=True, exist_ok=True)
+    return SCREENSHOTS
+
+
+@pytest.fixture
+def hidpi_page(browser, lab_url):
+    """A page as on a HiDPI laptop: device scale factor 2 (two device pixels per CSS pixel)."""
+    context = browser.new_context(viewport={"width": 1400, "height": 1000}, device_scale_factor=2)
+    p = context.new_page()
+    try:
+        yield p
+    finally:
+        context.close()
+        _shutdown_kernels(lab_url)
 
 
 @pytest.fixture

@@ -6,7 +6,7 @@ import urllib.request
 
 import pytest
 
-pytestmark = [pytest.mark.browser, pytest.mark.timeout(300)]
+pytestmark = [pytest.mark.browser, pytest.mark.slow, pytest.mark.timeout(300)]
 
 CHAPTERS = ["01-introduction", "02-optics", "03-digital-images", "04-rotations",
             "05-interior-orientation", "06-collinearity", "07-plane-transformations",
