@@ -11,7 +11,7 @@ import numpy as np
 
 from photolib.grading import hints
 from photolib.grading.judge import propagated_atol
-from photolib.grading.spec import Exercise, Mistake
+from photolib.grading.spec import PRINTED, Exercise, Mistake
 from photolib.grading.variants import aerial_camera, close_range_camera
 
 CHAPTER = "00-start"
@@ -40,7 +40,8 @@ image_scale = Exercise(
     kind="number", answer="scale_number",
     statement="{camera} with camera constant c = {c_mm} mm {distance} h = {h_m} m above a "
               "flat object. Compute the image scale number m_b = h / c (dimensionless).",
-    parameters=_scale_params, reference=_scale, tolerance=_scale_tolerance,
+    # m_b may be rounded to a whole number: at least 0.5
+    parameters=_scale_params, reference=_scale, tolerance=PRINTED, atol=0.5,
     mistakes=(hints.sign_of(_scale, "c_mm"),))
 
 
@@ -56,7 +57,7 @@ rotation_2d = Exercise(
     statement="Build the 2×2 matrix that rotates plane coordinates counter-clockwise by "
               "κ = {kappa_gon} gon (400 gon = 360°), as a NumPy array.",
     parameters=lambda rng: {"kappa_gon": round(float(rng.uniform(5.0, 395.0)), 3)},
-    reference=_rot2, atol=1e-6,
+    reference=_rot2, tolerance=PRINTED, atol=1e-6,
     mistakes=(hints.scaled_parameter(_rot2, "kappa_gon", 200.0 / math.pi, "gon"),
               hints.scaled_parameter(_rot2, "kappa_gon", 200.0 / 180.0, "degrees",
                                      "the angle was converted as if it were in degrees; "
@@ -76,7 +77,7 @@ rotation_x = Exercise(
     statement="Build R_ω, the active right-handed rotation about the X axis by "
               "ω = {omega_deg}° (course convention), as a 3×3 NumPy array.",
     parameters=lambda rng: {"omega_deg": round(float(rng.uniform(-30.0, 30.0)), 2)},
-    reference=_rot_x, atol=1e-6,
+    reference=_rot_x, tolerance=PRINTED, atol=1e-6,
     mistakes=(hints.scaled_parameter(_rot_x, "omega_deg", 180.0 / math.pi, "degrees"),))
 
 

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 
-from photolib.grading.spec import Exercise, Mistake
+from photolib.grading.spec import PRINTED, Exercise, Mistake
 from photolib.grading.variants import aerial_camera
 
 CHAPTER = "01-introduction"
@@ -124,7 +124,7 @@ scale_number = Exercise(
     statement="An aerial camera with the camera constant c = {c_mm} mm takes a vertical image "
               "from H = {h_m} m above flat ground. The image scale is 1 : m_b. What is the "
               "image scale number m_b?",
-    parameters=_scale_params, reference=_scale_number, rtol=1e-4, atol=0.0,
+    parameters=_scale_params, reference=_scale_number, tolerance=PRINTED, rtol=1e-4, atol=0.0,
     mistakes=(
         Mistake("units-mm-m", "c is in mm and H in m: convert c to m before m_b = H/c",
                 lambda p: p["h_m"] / p["c_mm"]),
@@ -227,7 +227,7 @@ ground_size = Exercise(
     statement="A camera has a square image format of {format_mm} mm × {format_mm} mm and "
               "c = {c_mm} mm. Write ground_size(H) returning the side length in **m** of the "
               "square ground area of a vertical image taken H m above flat ground.",
-    parameters=_ground_params, reference=_ground_size(), cases=_ground_cases,
+    parameters=_ground_params, reference=_ground_size(), tolerance=PRINTED, cases=_ground_cases,
     rtol=1e-6, atol=0.0,   # float32 (2e-7); the old 1e-9 rejected it
     mistakes=(
         Mistake("half", "that is half the side (from the principal point to the edge); the "

@@ -25,7 +25,7 @@ import numpy as np
 
 from photolib.grading import hints
 from photolib.grading.judge import propagated_atol
-from photolib.grading.spec import Exercise, Mistake
+from photolib.grading.spec import PRINTED, Exercise, Mistake
 
 CHAPTER = "07-plane-transformations"
 
@@ -89,7 +89,7 @@ helmert_two_points = Exercise(
               "p.src and p.dst). Determine the 4-parameter similarity (Helmert) transformation "
               "local → map of the course, X = a0 + a1·x − b1·y, Y = b0 + b1·x + a1·y, and give "
               "the NumPy array [a0, b0, a1, b1].",
-    parameters=_helmert_params, reference=_helmert_reference, tolerance=_helmert_tolerance,
+    parameters=_helmert_params, reference=_helmert_reference, tolerance=PRINTED,
     mistakes=(
         Mistake("swapped", _SWAPPED.format(src="(x, y)", dst="(X, Y)"), _helmert_swapped),
         Mistake("sign-b1", "the sign of b1 is reversed: that is the Polish notes' form "
@@ -181,7 +181,7 @@ projective_point = Exercise(
               "X = (a0 + a1·x' + a2·y')/(1 + c1·x' + c2·y'), …) and give the façade "
               "coordinates of the window corner measured at (x', y') = {P_text} mm as the "
               "NumPy array [X, Y] in m.",
-    parameters=_projective_params, reference=_projective_reference, rtol=0.0, atol=1e-6,
+    parameters=_projective_params, reference=_projective_reference, tolerance=PRINTED, rtol=0.0, atol=1e-6,
     mistakes=(
         Mistake("swapped", "the transformation was estimated façade → image and applied to "
                            "image coordinates: estimate image → façade (or apply the inverse)",
@@ -232,7 +232,7 @@ cross_ratio = Exercise(
               "line). In the object, B is {sB} m and C is {sC} m from A, in the same direction "
               "as D. The cross ratio (Doppelverhältnis, Luhmann 2.21) is invariant under "
               "central projection: compute the distance s_D of D from A in m.",
-    parameters=_cross_params, reference=_cross_reference, tolerance=_cross_tolerance,
+    parameters=_cross_params, reference=_cross_reference, tolerance=PRINTED,
     mistakes=(
         Mistake("affine-ratio", "the simple ratio (Teilverhältnis) is kept by affine maps only; "
                                 "a central projection keeps the cross ratio of four points",
@@ -351,7 +351,7 @@ fiducial_affine = Exercise(
               "(col, row) → (x', y') by least squares from the four marks (interior "
               "orientation) and give the image coordinates of the point measured at "
               "(col, row) = {P_text} as the NumPy array [x', y'] in mm.",
-    parameters=_fiducial_params, reference=_fiducial_reference, rtol=0.0, atol=1e-4,
+    parameters=_fiducial_params, reference=_fiducial_reference, tolerance=PRINTED, rtol=0.0, atol=1e-4,
     mistakes=(
         Mistake("helmert", "a Helmert (similarity) transformation cannot absorb the scanner's "
                            "different scales and shear; the task asks for the affine "
@@ -428,7 +428,7 @@ bilinear_function = Exercise(
               "X = a0 + a1·x + a2·y + a3·x·y, Y = b0 + b1·x + b2·y + b3·x·y with {text} "
               "(also p.a0, …, p.b3). Write bilinear(x, y) returning the NumPy array [X, Y]. It "
               "is tested on sheet points you do not see.",
-    parameters=_bilinear_params, reference=_bilinear_function, cases=_bilinear_cases,
+    parameters=_bilinear_params, reference=_bilinear_function, tolerance=PRINTED, cases=_bilinear_cases,
     rtol=1e-6, atol=1e-6,
     mistakes=(
         Mistake("erratum", "this is the bilinear formula as printed in the Polish notes "

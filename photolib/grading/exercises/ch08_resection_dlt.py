@@ -27,7 +27,7 @@ import numpy as np
 from photolib.grading import hints
 from photolib.grading.exercises.ch04_rotations import scaled_parameters
 from photolib.grading.judge import rounding_tolerance
-from photolib.grading.spec import Exercise, Mistake
+from photolib.grading.spec import PRINTED, Exercise, Mistake
 from photolib.grading.variants import aerial_camera, close_range_camera
 
 CHAPTER = "08-resection-dlt"
@@ -132,7 +132,7 @@ dlt_vector = Exercise(
     # the printed inputs' rounding (1e-3 mm, m and °) and float32 (rtol 1e-6); the old
     # rtol 1e-7 rejected a float32 computation and L printed to 7 significant digits
     parameters=_close_range_orientation, reference=_dlt_vector,
-    tolerance=lambda p: _DLT_VECTOR_TOLERANCE(p),
+    tolerance=PRINTED,
     mistakes=(
         Mistake("transposed", "R and Rᵀ are swapped: the DLT matrix is K·Rᵀ·[I | −X0]",
                 lambda p: _dlt_formula(p, R=_rotation(p).T)),
