@@ -89,7 +89,8 @@ def _rot_x_symbolic(p):
 
 
 rotation_x_symbolic = Exercise(
-    id="demo.rotation-x-symbolic", points=2, title="R_ω with SymPy", kind="expression",
+    id="demo.rotation-x-symbolic",
+    few_variants="the worked example of 00-start: R_x(omega) in symbols, the same for everyone", points=2, title="R_ω with SymPy", kind="expression",
     answer="R_omega_sym", symbols=("omega",),
     statement="Write R_ω as a SymPy Matrix in the symbol omega = sympy.Symbol('omega').",
     parameters=lambda rng: {}, reference=_rot_x_symbolic)
@@ -102,7 +103,8 @@ def _scale_cases(rng, p):
 
 
 scale_function = Exercise(
-    id="demo.scale-function", points=2, title="Image scale number as a function",
+    id="demo.scale-function",
+    few_variants="the worked example of 00-start: m_b(c, h) = h/c has no variant of its own", points=2, title="Image scale number as a function",
     kind="function", answer="image_scale_number", rtol=1e-6, atol=1e-9,
     statement="Write image_scale_number(c_mm, h_m) returning m_b for a camera constant in mm "
               "and a distance in m. It is tested on cameras you do not see.",
@@ -124,7 +126,8 @@ def _choice_params(rng):
 
 
 inverse_choice = Exercise(
-    id="demo.inverse-choice", points=1, title="Inverse of a rotation matrix", kind="choice",
+    id="demo.inverse-choice",
+    few_variants="a multiple choice of four options: four correct answers at most", points=1, title="Inverse of a rotation matrix", kind="choice",
     answer="choice_inverse",
     statement="The inverse of a rotation matrix R is {options}. Set the answer to the letter.",
     parameters=_choice_params, reference=lambda p: p["correct"],

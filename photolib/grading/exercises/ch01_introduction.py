@@ -66,7 +66,8 @@ def _wrong_class(index):
 
 
 classes = Exercise(
-    id="int.classes", points=1, kind="choice", answer="choice_class",
+    id="int.classes",
+    few_variants="a multiple choice of four options: four correct answers at most", points=1, kind="choice", answer="choice_class",
     title="Classes of photogrammetry / Einteilung",
     statement="Task: {task}. Which class of photogrammetry by the number of images is this: "
               "{options}? Set the answer to the letter.",
@@ -93,7 +94,8 @@ def _history_params(rng):
 
 
 history = Exercise(
-    id="int.history", points=1, kind="choice", answer="choice_history",
+    id="int.history",
+    few_variants="a multiple choice of four options: four correct answers at most", points=1, kind="choice", answer="choice_history",
     title="History / Geschichte",
     statement="When and where was the International Society for Photogrammetry (ISP, today "
               "ISPRS) founded: {options}? Set the answer to the letter.",

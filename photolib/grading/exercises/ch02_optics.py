@@ -296,7 +296,8 @@ def _stop_letter(index):
 
 
 stop_down = Exercise(
-    id="opt.stop-down", points=1, kind="choice", answer="choice_stop",
+    id="opt.stop-down",
+    few_variants="a multiple choice of four options: four correct answers at most", points=1, kind="choice", answer="choice_stop",
     title="Stopping down / Abblenden",
     statement="A photographer stops a lens down from f-number k = {k} to k = {k2} (twice "
               "the f-number) and keeps the focus. Which is right? {options}. Set the answer "

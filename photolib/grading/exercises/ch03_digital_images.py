@@ -68,7 +68,8 @@ def _bits(p, rounding=math.ceil, log=math.log2):
 
 
 bits = Exercise(
-    id="dig.bits", points=2, kind="number", answer="b",
+    id="dig.bits",
+    few_variants="the answer is a bit depth, a whole number from 8 to 16 (392 of 400 statements differ)", points=2, kind="number", answer="b",
     title="Bit depth for a dynamic range / Bittiefe und Dynamikumfang",
     statement="A sensor has a full well (Fassungsvermögen) of {full_well} e⁻ and a read noise "
               "of {read_noise} e⁻. Its dynamic range is DR = full well / read noise. What is "
@@ -189,7 +190,8 @@ def _option(index):
 
 
 bayer_green = Exercise(
-    id="dig.bayer-green", points=1, kind="choice", answer="choice_green",
+    id="dig.bayer-green",
+    few_variants="a multiple choice of four options: four correct answers at most", points=1, kind="choice", answer="choice_green",
     title="Bayer mosaic / Bayer-Muster",
     statement="A colour camera has a Bayer filter mosaic (RGGB). Which share of its pixels "
               "carries a green filter: {options}? Set the answer to the letter.",

@@ -130,7 +130,8 @@ def _radial(p, balanced=None, divide=True):
 
 
 radial_factor = Exercise(
-    id="io.radial-factor", points=2, kind="expression", answer="radial",
+    id="io.radial-factor",
+    few_variants="a symbolic derivation: the radial models of the course give 8 formulas", points=2, kind="expression", answer="radial",
     symbols=("r", "x", "y", "A1", "A2", "A3", "r0"),
     title="Radial-symmetric distortion (radialsymmetrische Verzeichnung)",
     statement="Write with SymPy {what}, for the radial-symmetric distortion with the "

@@ -276,7 +276,8 @@ def _solved_reference(p):
 _old_print = hints.erratum_version("luhmann:2.21", lambda expr, p: _solve_for(str(expr), p["point"]))
 
 cross_ratio_solved = Exercise(
-    id="plane.cross-ratio-solved", points=2, kind="expression", answer="t_solved",
+    id="plane.cross-ratio-solved",
+    few_variants="a symbolic derivation: the cross ratio solved for one of four points", points=2, kind="expression", answer="t_solved",
     symbols=("t_A", "t_B", "t_C", "t_D", "lam"),
     title="The cross ratio solved for one point (Doppelverhältnis nach einem Punkt aufgelöst)",
     statement="The cross ratio of four collinear points with signed positions t_A, t_B, t_C, "

@@ -241,7 +241,8 @@ def _coefficient(p, transpose=False, c_sign=1, normalise=True, d_sign=1, x0_sign
 
 
 dlt_coefficient = Exercise(
-    id="rdl.dlt-coefficient", points=3, kind="expression", answer="Lk",
+    id="rdl.dlt-coefficient",
+    few_variants="a symbolic derivation: one of the eleven DLT coefficients", points=3, kind="expression", answer="Lk",
     symbols=("r11", "r12", "r13", "r21", "r22", "r23", "r31", "r32", "r33",
              "X0", "Y0", "Z0", "c", "x0", "y0"),
     title="A DLT coefficient from the collinearity equations (Herleitung)",

@@ -269,7 +269,8 @@ def _swapped(p):
 
 
 unknowns = Exercise(
-    id="st.unknowns", points=1, kind="choice", answer="choice_unknowns",
+    id="st.unknowns",
+    few_variants="a multiple choice: the correct answer is one of its few option letters", points=1, kind="choice", answer="choice_unknowns",
     title="Unknowns of the orientations / Unbekannte der Orientierungen",
     statement="{lead} How many unknowns does {task} have ({counted})? "
               "(a) 5, (b) 6, (c) 7, (d) 12, (e) 3. Set the answer to the letter.",

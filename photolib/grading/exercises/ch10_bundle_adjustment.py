@@ -139,7 +139,8 @@ def _sum_params(rng):
 
 
 redundancy_sum = Exercise(
-    id="bun.redundancy-sum", points=1, kind="choice", answer="choice_sum",
+    id="bun.redundancy-sum",
+    few_variants="a multiple choice of four options: four correct answers at most", points=1, kind="choice", answer="choice_sum",
     title="Redundancy numbers / Redundanzanteile",
     statement="A free network (no control points, inner constraints) of {images} images and "
               "{points} new points has n = {n} observations and fixed interior orientation. "

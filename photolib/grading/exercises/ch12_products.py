@@ -218,7 +218,8 @@ def _product_mistake(n):
 
 
 product = Exercise(
-    id="prd.product", points=1, kind="choice", answer="choice_product",
+    id="prd.product",
+    few_variants="a multiple choice of four options: four correct answers at most", points=1, kind="choice", answer="choice_product",
     title="Which product? (Welches Produkt?)",
     statement="Task: {task}. Which product fits best? {options}. Set the answer to the letter.",
     parameters=_product_params, reference=lambda p: _TASKS[p["i"]][1], choices=_PRODUCTS,
