@@ -10,7 +10,6 @@ import math
 import numpy as np
 
 from photolib.grading import hints
-from photolib.grading.judge import propagated_atol
 from photolib.grading.spec import PRINTED, Exercise, Mistake
 from photolib.grading.variants import aerial_camera, close_range_camera
 
@@ -30,9 +29,6 @@ def _scale(p):
     return p["h_m"] / (p["c_mm"] / 1000.0)
 
 
-def _scale_tolerance(p):
-    # m_b may be rounded to a whole number, or computed from c and h rounded once more
-    return 1e-6, max(0.5, propagated_atol(_scale, p, {"c_mm": 0.0005, "h_m": 0.005}))
 
 
 image_scale = Exercise(

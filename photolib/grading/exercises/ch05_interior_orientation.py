@@ -18,7 +18,6 @@ import math
 import numpy as np
 
 from photolib.grading import hints
-from photolib.grading.judge import propagated_atol
 from photolib.grading.spec import PRINTED, Exercise, Mistake
 
 CHAPTER = "05-interior-orientation"
@@ -63,9 +62,6 @@ def _field_angle(p):
     return math.degrees(math.atan2(_half_diagonal(p), p["c_mm"]))
 
 
-def _field_tolerance(p):
-    """τ is as exact as the printed pixel size (0.01 µm) and c (0.001 mm) allow."""
-    return 0.0, propagated_atol(_field_angle, p, {"pixel_um": 0.005, "c_mm": 0.0005})
 
 
 field_angle = Exercise(

@@ -24,7 +24,6 @@ import math
 import numpy as np
 
 from photolib.grading import hints
-from photolib.grading.judge import propagated_atol
 from photolib.grading.spec import PRINTED, Exercise, Mistake
 
 CHAPTER = "07-plane-transformations"
@@ -67,13 +66,6 @@ def _helmert_swapped(p):
     return np.array(list(_helmert_fit(p, swapped=True).params.values()))
 
 
-def _helmert_tolerance(p):
-    """Per parameter: what rounding the printed coordinates (1 mm) does to a0, b0, a1, b1.
-
-    An exact solution, a least-squares one (OpenCV's estimateAffinePartial2D) or one rounded
-    sensibly differ by far less; a mistake changes some parameter by far more.
-    """
-    return 0.0, propagated_atol(_helmert_reference, p, {"src": 0.0005, "dst": 0.0005})
 
 
 def _helmert_notes_sign(p):
@@ -218,10 +210,6 @@ def _cross_reference(p):
     return sB * sC / (sB - lam * (sC - sB))
 
 
-def _cross_tolerance(p):
-    """s_D is as exact as the printed positions (0.001 mm) and distances (0.001 m) allow."""
-    return 0.0, propagated_atol(_cross_reference, p, {k: 0.0005 for k in
-                                                      ("a", "b", "c", "d", "sB", "sC")})
 
 
 cross_ratio = Exercise(

@@ -26,7 +26,6 @@ import numpy as np
 
 from photolib.grading import hints
 from photolib.grading.exercises.ch04_rotations import scaled_parameters
-from photolib.grading.judge import rounding_tolerance
 from photolib.grading.spec import PRINTED, Exercise, Mistake
 from photolib.grading.variants import aerial_camera, close_range_camera
 
@@ -151,9 +150,6 @@ dlt_vector = Exercise(
     ))
 
 
-_DLT_VECTOR_TOLERANCE = rounding_tolerance(
-    _dlt_vector, {name: 0.0005 for name in ("c_mm", "x0_mm", "y0_mm", "X0", "Y0", "Z0") + _ANGLES},
-    mistakes=[m.wrong for m in dlt_vector.mistakes])
 
 
 # -- 3. interior orientation from L (array) -------------------------------------------------------

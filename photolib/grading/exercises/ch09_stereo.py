@@ -24,7 +24,6 @@ import math
 import numpy as np
 
 from photolib.grading import hints
-from photolib.grading.judge import rounding_tolerance
 from photolib.grading.exercises.ch04_rotations import scaled_parameters
 from photolib.grading.spec import PRINTED, Exercise, Mistake
 from photolib.grading.variants import aerial_camera, close_range_camera
@@ -69,8 +68,6 @@ height = Exercise(
                 lambda p: _height(p, c=p["c_mm"] / 1000.0)),
     ))
 
-_HEIGHT_TOLERANCE = rounding_tolerance(_height, {"c_mm": 0.005, "B_m": 0.05, "px_mm": 0.0005},
-                                       mistakes=[m.wrong for m in height.mistakes])
 
 
 # -- 2. σ_Z of a stereo pair (number) -------------------------------------------------------------

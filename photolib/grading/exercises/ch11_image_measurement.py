@@ -27,7 +27,6 @@ import math
 import numpy as np
 
 from photolib.grading import hints
-from photolib.grading.judge import rounding_tolerance
 from photolib.grading.spec import PRINTED, Exercise, Mistake
 
 CHAPTER = "11-image-measurement"
@@ -79,8 +78,6 @@ log_value = Exercise(
     ))
 
 
-_LOG_TOLERANCE = rounding_tolerance(_log_value, {"r": 0.005, "sigma": 0.005},
-                                    mistakes=[m.wrong for m in log_value.mistakes])
 
 
 # -- 2. moment-preserving threshold p1 (number) --------------------------------------------------

@@ -22,7 +22,6 @@ import math
 
 import numpy as np
 
-from photolib.grading.judge import rounding_tolerance
 from photolib.grading.spec import PRINTED, Exercise, Mistake
 from photolib.grading.variants import aerial_camera
 
@@ -67,8 +66,6 @@ relief = Exercise(
     ))
 
 
-_RELIEF_TOLERANCE = rounding_tolerance(_relief, {"r_mm": 0.005, "dh": 0.05, "H": 0.5},
-                                       mistakes=[m.wrong for m in relief.mistakes])
 
 
 # -- 2. ortho pixel → image coordinates (function) ------------------------------------------------
@@ -174,8 +171,6 @@ dtm_accuracy = Exercise(
     ))
 
 
-_DTM_TOLERANCE = rounding_tolerance(_dtm_accuracy, {"c_mm": 0.005}, floor=5e-4,
-                                    mistakes=[m.wrong for m in dtm_accuracy.mistakes])
 
 
 # -- 4. which product (choice) --------------------------------------------------------------------
@@ -257,7 +252,5 @@ occluded = Exercise(
     ))
 
 
-_OCCLUDED_TOLERANCE = rounding_tolerance(_occluded, {"H": 0.5, "h": 0.05, "d": 0.05},
-                                         mistakes=[m.wrong for m in occluded.mistakes])
 
 EXERCISES = (relief, ortho_to_image, dtm_accuracy, product, occluded)
