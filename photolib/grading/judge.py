@@ -12,6 +12,9 @@
 
 from __future__ import annotations
 
+import re
+import string
+from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
@@ -19,7 +22,8 @@ import numpy as np
 from photolib.grading.encode import NONE, NOT_ANSWERED, Unsupported, unanswered
 from photolib.grading.hints import generic_mistakes
 
-__all__ = ["FunctionOutputs", "Judgement", "compare", "judge", "propagated_atol"]
+__all__ = ["FunctionOutputs", "Judgement", "compare", "judge", "printed_half_units",
+           "printed_tolerance", "propagated_atol", "rounding_tolerance"]
 
 
 @dataclass(frozen=True)
@@ -63,6 +67,8 @@ def propagated_atol(reference, params: dict, half_units: dict, floor: float = 1e
         Parameter name -> half of its last printed digit (``0.005`` for a value printed to 0.01).
         A parameter that is a list or array (e.g. point coordinates) has every element
         rounded alike: each element is perturbed on its own and contributes its own term.
+        For such a parameter the half unit may also be an array of its shape, one per
+        element (0 for an element that is exact).
     floor : float
         Smallest tolerance returned.
 
@@ -90,11 +96,14 @@ def propagated_atol(reference, params: dict, half_units: dict, floor: float = 1e
             total = total + np.abs(evaluate(up) - evaluate(down)) / 2.0
             continue
         base = np.asarray(value, dtype=float)
+        steps = np.broadcast_to(np.asarray(du, dtype=float), base.shape)
         for index in np.ndindex(base.shape):
+            if not steps[index]:
+                continue
             shifted = []
             for sign in (1.0, -1.0):
                 element = base.copy()
-                element[index] += sign * du
+                element[index] += sign * steps[index]
                 changed = dict(params)
                 changed[name] = element.tolist() if isinstance(value, list) else element
                 shifted.append(evaluate(changed))
@@ -103,7 +112,8 @@ def propagated_atol(reference, params: dict, half_units: dict, floor: float = 1e
     return float(total) if total.ndim == 0 else total
 
 
-def rounding_tolerance(reference, half_units, rtol=1e-6, mistakes=(), share=0.4, floor=1e-12):
+def rounding_tolerance(reference, half_units, rtol=1e-6, mistakes=(), share=0.4, floor=1e-12,
+                       margin=1.0):
     """``tolerance`` of an exercise: the rounding of the printed inputs, kept off the mistakes.
 
     The absolute tolerance is :func:`propagated_atol` of the printed
@@ -113,6 +123,10 @@ def rounding_tolerance(reference, half_units, rtol=1e-6, mistakes=(), share=0.4,
     cut to ``share`` of the distance to the nearest mistake, so the mistake still lands
     outside with its hint. Mistakes that coincide with the reference are ignored. ``floor``
     is the smallest absolute tolerance before that cut (an answer's own rounding).
+    ``half_units`` may also be a function of the parameters returning that dict
+    (:func:`printed_half_units`). ``margin`` multiplies the propagated part: an input moved by
+    a whole half unit reaches the first-order sum exactly, and the second-order term may
+    carry it just over.
 
     >>> tol = rounding_tolerance(lambda p: p["a"] / 3, {"a": 0.005},
     ...                          mistakes=(lambda p: p["a"] / 3 + 1e-4,))
@@ -120,17 +134,253 @@ def rounding_tolerance(reference, half_units, rtol=1e-6, mistakes=(), share=0.4,
     [1e-06, 4e-05]
     """
     def tolerance(p):
-        atol = propagated_atol(reference, p, half_units, floor=floor)
+        units = half_units(p) if callable(half_units) else half_units
+        atol = margin * propagated_atol(reference, p, units, floor=floor)
         ref = np.asarray(reference(p), float)
         for wrong in mistakes:
-            value = wrong(p)
-            if value is None:
+            try:
+                value = wrong(p)
+            except Exception:  # noqa: BLE001 - a hint rule that does not apply is skipped
+                continue
+            if value is None or np.shape(value) != ref.shape:
                 continue
             gap = float(np.max(np.abs(np.asarray(value, float) - ref)))
             if gap > 1e-12 * (1.0 + float(np.max(np.abs(ref)))):
                 atol = np.minimum(atol, share * gap)
         return rtol, atol
     return tolerance
+
+
+#: relative rounding of a float32 number (half a unit of its 24-bit significand)
+FLOAT32_ROUNDING = 2.0 ** -24
+#: a printed number: optional sign (also the typographic minus), digits, decimals, exponent
+_PRINTED_NUMBER = re.compile(r"(?<![\w.])[-−]?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?(?!\w)")
+
+
+def _half_unit(text: str) -> float:
+    """Half a unit of the last digit of the printed number ``text`` (``"2.50"`` → 0.005)."""
+    mantissa, _, exponent = text.lower().partition("e")
+    return 0.5 * 10.0 ** (int(exponent or 0) - len(mantissa.partition(".")[2]))
+
+
+def printed_half_units(statement: str, params, exact=()) -> dict:
+    """Half a unit of the last printed digit of every float input, as ``statement`` prints it.
+
+    What the student reads is ``statement.format(**params)``, and Python prints a float by
+    its shortest repr: a value drawn to 0.01 as 57.0 reads "57.0" and is good to 0.05 only,
+    so the half units come from the text, not from how the value was drawn. A float field
+    gives its own text; a list field its elements; a float parameter that is no field (or a
+    list printed through a text field, such as a matrix or a list of points) is looked up
+    among the numbers of the statement's text fields, in order. Integers are counts and
+    exact; so are the names in ``exact`` and floats the statement does not print.
+
+    Each half unit is at least the float32 rounding of the value, so a tolerance built on
+    them also accepts inputs kept in float32.
+
+    Returns
+    -------
+    dict
+        Parameter name -> half unit (float), or for a list an array of its shape (0 where an
+        element is exact).
+
+    >>> printed_half_units("c = {c} mm, h = {h:.2f} m, n = {n}", {"c": 57.0, "h": 3.0, "n": 4})
+    {'c': 0.05, 'h': 0.005}
+    >>> printed_half_units("X = {text}", {"X": [1.25, 2.0], "text": "(1.25, 2.00)"})["X"]
+    array([0.005, 0.005])
+    """
+    fields = [(name, spec) for _, name, spec, _ in string.Formatter().parse(statement) if name]
+    named = {name for name, _ in fields}
+    units, pool = {}, []
+
+    def floor32(value, half):
+        return max(half, FLOAT32_ROUNDING * abs(float(value)))
+
+    for name, spec in fields:
+        value = params[name]
+        if name in exact or isinstance(value, (bool, int)):
+            continue
+        text = format(value, spec or "")
+        if isinstance(value, float):
+            units[name] = floor32(value, _half_unit(text))
+        elif isinstance(value, str):
+            pool.extend(m.group().replace("−", "-") for m in _PRINTED_NUMBER.finditer(text))
+        elif isinstance(value, (list, tuple, np.ndarray)):
+            cells = np.asarray(value, dtype=object)
+            numbers = [m.group() for m in _PRINTED_NUMBER.finditer(text)]
+            if len(numbers) != cells.size:
+                continue
+            half = np.zeros(cells.shape)
+            for index, number in zip(np.ndindex(cells.shape), numbers):
+                if isinstance(cells[index], float):
+                    half[index] = floor32(cells[index], _half_unit(number))
+            if np.any(half):
+                units[name] = half
+    used = [False] * len(pool)
+
+    def lookup(element):
+        for k, number in enumerate(pool):
+            if not used[k] and abs(float(number) - element) <= _half_unit(number) * (1 + 1e-9):
+                used[k] = True
+                return floor32(element, _half_unit(number))
+        return 0.0
+
+    for name, value in params.items():
+        if name in named or name in exact or isinstance(value, (bool, int, str)):
+            continue
+        if isinstance(value, float):
+            half = lookup(value)
+            if half:
+                units[name] = half
+        elif isinstance(value, (list, tuple)):
+            cells = np.asarray(value, dtype=object)
+            half = np.zeros(cells.shape)
+            for index in np.ndindex(cells.shape):
+                if isinstance(cells[index], float):
+                    half[index] = lookup(cells[index])
+            if np.any(half):
+                units[name] = half
+    return units
+
+
+#: recently computed PRINTED tolerances: (exercise id, parameters, ...) -> tolerance; one
+#: judgement compares an answer with the reference and every mistake, and a check or a batch
+#: judges the same variant again, each time re-evaluating the reference per printed input
+_PRINTED_CACHE: OrderedDict = OrderedDict()
+_PRINTED_CACHE_SIZE = 512
+
+
+def _cached(key, compute):
+    if key in _PRINTED_CACHE:
+        _PRINTED_CACHE.move_to_end(key)
+        return _PRINTED_CACHE[key]
+    value = compute()
+    _PRINTED_CACHE[key] = value
+    if len(_PRINTED_CACHE) > _PRINTED_CACHE_SIZE:
+        _PRINTED_CACHE.popitem(last=False)
+    return value
+
+
+def _params_key(params) -> str:
+    return repr(sorted((str(k), repr(v)) for k, v in params.items()))
+
+
+#: a PRINTED tolerance is this many times the first-order sum of the rounding effects: room
+#: for the second-order term of an input moved by a whole half unit
+PRINTED_MARGIN = 1.1
+
+
+def _all_mistakes(exercise):
+    return tuple(exercise.mistakes) + generic_mistakes(exercise)
+
+
+def printed_tolerance(exercise, share=0.4):
+    """``tolerance(params)`` of ``Exercise(tolerance=PRINTED)``: the printed inputs' rounding.
+
+    :func:`rounding_tolerance` of :func:`printed_half_units` (the exercise's ``exact``
+    parameters left alone), the exercise's ``rtol`` (1e-6 by default: float32) and its
+    ``atol`` as the floor, cut to ``share`` of the distance to the nearest declared or
+    generic mistake and of the distance between two mistakes with different hints. For a function exercise it returns ``(rtol, atol)`` only: the absolute
+    tolerance of each test input is :func:`function_atols`.
+    """
+    rtol = float(exercise.rtol)
+    if exercise.kind == "function":
+        return lambda p: (rtol, float(exercise.atol))
+
+    def half_units(p):
+        return printed_half_units(exercise.statement, p, exercise.exact)
+
+    mistakes = _all_mistakes(exercise)
+    compute = rounding_tolerance(exercise.reference, half_units, rtol=rtol,
+                                 mistakes=[m.wrong for m in mistakes],
+                                 share=share, floor=float(exercise.atol), margin=PRINTED_MARGIN)
+
+    def apart(p):
+        # two declared mistakes with different hints stay apart as well: an answer within
+        # the tolerance of one must not match the other first (the generic ones are tried
+        # after them and give way)
+        r, atol = compute(p)
+        if exercise.mistakes:
+            atol = np.minimum(atol, share * _hint_gap(exercise.mistakes, p))
+        return r, atol
+
+    def tolerance(p):
+        return _cached((exercise.id, share, _params_key(p)), lambda: apart(p))
+    return tolerance
+
+
+def _hint_gap(mistakes, params):
+    """The smallest distance between the values of two mistakes with different hints
+    (mistakes that coincide, or do not apply, are left out); ``inf`` if there is none."""
+    values = []
+    for mistake in mistakes:
+        try:
+            value = mistake.wrong(params)
+        except Exception:  # noqa: BLE001 - a hint rule that does not apply is skipped
+            continue
+        if value is not None and not callable(value):
+            values.append((mistake.message, np.asarray(value, float)))
+    gap = np.inf
+    for i, (text_a, a) in enumerate(values):
+        for text_b, b in values[i + 1:]:
+            if text_a == text_b or a.shape != b.shape:
+                continue
+            d = float(np.max(np.abs(a - b)))
+            if d > 1e-12 * (1.0 + float(np.max(np.abs(a)))):
+                gap = min(gap, d)
+    return gap
+
+
+def function_atols(exercise, params, outputs_of, share=0.4):
+    """Absolute tolerances of a function exercise with ``tolerance=PRINTED``, one per input.
+
+    For each test input: what half a unit of each printed digit changes in the reference's
+    output (:func:`printed_half_units`, moved one at a time), at least the exercise's
+    ``atol``, cut to ``share`` of the distance to each mistake's output on that input.
+    """
+    base = [np.asarray(v, float) for v in outputs_of(exercise.reference(params))]
+    key = (exercise.id, share, _params_key(params), tuple(v.tobytes() for v in base))
+    return _cached(key, lambda: _function_atols(exercise, params, outputs_of, share, base))
+
+
+def _function_atols(exercise, params, outputs_of, share, base):
+    total = [np.zeros_like(v) for v in base]
+    units = printed_half_units(exercise.statement, params, exercise.exact)
+    for name, du in units.items():
+        value = params[name]
+        indices = [None] if np.ndim(value) == 0 else list(np.ndindex(np.shape(value)))
+        for index in indices:
+            step = float(du) if index is None else float(np.asarray(du)[index])
+            if not step:
+                continue
+            shifted = []
+            for sign in (1.0, -1.0):
+                changed = dict(params)
+                if index is None:
+                    changed[name] = value + sign * step
+                else:
+                    element = np.array(value, dtype=float)
+                    element[index] += sign * step
+                    changed[name] = element.tolist()
+                shifted.append(outputs_of(exercise.reference(type(params)(changed))))
+            for k, (up, down) in enumerate(zip(*shifted)):
+                total[k] = total[k] + np.abs(np.asarray(up, float) - np.asarray(down, float)) / 2
+    atols = [np.maximum(PRINTED_MARGIN * t, float(exercise.atol)) for t in total]
+    for mistake in _all_mistakes(exercise):
+        try:
+            wrong = mistake.wrong(params)
+            values = None if wrong is None else outputs_of(wrong)
+        except Exception:  # noqa: BLE001 - a hint rule that does not apply is skipped
+            continue
+        if values is None:
+            continue
+        for k, (value, ref) in enumerate(zip(values, base)):
+            value = np.asarray(value, float)
+            if value.shape != ref.shape or not np.all(np.isfinite(value)):
+                continue
+            gap = float(np.max(np.abs(value - ref)))
+            if gap > 1e-12 * (1.0 + float(np.max(np.abs(ref)))):
+                atols[k] = np.minimum(atols[k], share * gap)
+    return [float(a) if a.ndim == 0 else a for a in atols]
 
 
 def _numbers_match(answer, expected, rtol, atol) -> bool:
@@ -275,9 +525,13 @@ def _numeric_matrix(answer, expected_ndim: int):
     return values
 
 
-def compare(exercise, answer, expected, params) -> tuple[bool, str]:
-    """Does ``answer`` equal ``expected`` for this exercise's kind? Returns ``(ok, reason)``."""
-    rtol, atol = exercise.tolerances(params)
+def compare(exercise, answer, expected, params, tolerances=None) -> tuple[bool, str]:
+    """Does ``answer`` equal ``expected`` for this exercise's kind? Returns ``(ok, reason)``.
+
+    ``tolerances`` is ``(rtol, atol)`` when the caller has it already (default: the
+    exercise's for ``params``); for a function ``atol`` may be a list, one per test input.
+    """
+    rtol, atol = exercise.tolerances(params) if tolerances is None else tolerances
     kind = exercise.kind
     if kind == "number":
         answer = _as_number(answer)
@@ -328,7 +582,8 @@ def compare(exercise, answer, expected, params) -> tuple[bool, str]:
             return False, answer.error
         if len(answer.outputs) != len(expected):
             return False, "the function did not answer every test input"
-        for got, want in zip(answer.outputs, expected):
+        per_input = atol if isinstance(atol, list) else [atol] * len(expected)
+        for got, want, atol in zip(answer.outputs, expected, per_input):
             if got is NONE:
                 return False, "the function returned None: is its return statement missing?"
             if got is NOT_ANSWERED or isinstance(got, (str, bool, Unsupported, list)):
@@ -406,7 +661,8 @@ def judge(exercise, params, answer, outputs_of=None) -> Judgement:
         return verdict("not-answered", "not answered yet")
     expected = _expected(exercise, exercise.reference(params), params, outputs_of)
     try:
-        ok, reason = compare(exercise, answer, expected, params)
+        tolerances = _tolerances(exercise, params, outputs_of)
+        ok, reason = compare(exercise, answer, expected, params, tolerances)
     except ImportError as exc:
         return verdict("wrong", f"cannot judge this answer here: {exc}", mistake="unjudged")
     except Exception as exc:  # noqa: BLE001 - e.g. UnsafeExpressionError from the parser
@@ -423,18 +679,28 @@ def judge(exercise, params, answer, outputs_of=None) -> Judgement:
     for mistake, wrong in _mistake_values(exercise, params, outputs_of):
         tried.append((mistake, wrong))
         try:
-            hit, _ = compare(exercise, answer, wrong, params)
-            if hit and _closer_to_zero(exercise, answer, wrong, params):
+            hit, _ = compare(exercise, answer, wrong, params, tolerances)
+            if hit and _closer_to_zero(exercise, answer, wrong, params, tolerances):
                 continue
         except Exception:  # noqa: BLE001 - a hint rule that does not apply is skipped
             continue
         if hit:
             return verdict("wrong", f"not correct: {mistake.message}", mistake=mistake.tag)
-    rounded = _rounded_mistake(exercise, answer, expected, params, tried)
+    rounded = _rounded_mistake(exercise, answer, expected, params, tried, tolerances)
     if rounded is not None:
         return verdict("wrong", f"not correct: {rounded.message}", mistake=rounded.tag)
     return verdict("wrong", "not correct" + (f": {reason}" if reason else ""),
                    mistake=_reason_tag(reason))
+
+
+def _tolerances(exercise, params, outputs_of):
+    """``(rtol, atol)`` of this variant, computed once per judgement (a ``PRINTED``
+    tolerance re-evaluates the reference for every printed input); for a function exercise
+    with ``tolerance=PRINTED`` ``atol`` is the list of :func:`function_atols`."""
+    rtol, atol = exercise.tolerances(params)
+    if exercise.kind == "function" and exercise.tolerance == "printed" and outputs_of:
+        atol = function_atols(exercise, params, outputs_of)
+    return rtol, atol
 
 
 #: relative tolerance at which a rounded answer still shows which mistake it is: four
@@ -458,7 +724,7 @@ def _mistake_values(exercise, params, outputs_of):
             yield mistake, value
 
 
-def _rounded_mistake(exercise, answer, expected, params, tried):
+def _rounded_mistake(exercise, answer, expected, params, tried, tolerances):
     """The one mistake a number or array answer matches to four significant digits, or None.
 
     The hints above compare with the exercise's own tolerance, which a student who made a
@@ -466,7 +732,8 @@ def _rounded_mistake(exercise, answer, expected, params, tried):
     way, but the hint is lost. This second look accepts :data:`HINT_RTOL` per entry (plus the
     exercise's ``atol``), and names a mistake only when the answer is not as near the correct
     value and no other mistake with a different hint is as near. ``tried`` are the
-    ``(mistake, value)`` pairs of :func:`_mistake_values` that the first look compared.
+    ``(mistake, value)`` pairs of :func:`_mistake_values` that the first look compared;
+    ``tolerances`` the exercise's ``(rtol, atol)`` for these parameters.
     """
     if exercise.kind not in ("number", "array"):
         return None
@@ -477,7 +744,7 @@ def _rounded_mistake(exercise, answer, expected, params, tried):
     given = np.asarray(given, float)
     if not np.all(np.isfinite(given)):
         return None
-    _, atol = exercise.tolerances(params)
+    _, atol = tolerances
 
     def near(target) -> bool:
         t = np.asarray(target, float)
@@ -489,14 +756,15 @@ def _rounded_mistake(exercise, answer, expected, params, tried):
     found = {}
     for mistake, wrong in tried:
         try:
-            if near(wrong) and not _closer_to_zero(exercise, answer, wrong, params):
+            if near(wrong) and not _closer_to_zero(exercise, answer, wrong, params,
+                                                   tolerances):
                 found.setdefault(mistake.message, mistake)
         except Exception:  # noqa: BLE001 - a value that cannot be compared gives no hint
             continue
     return next(iter(found.values())) if len(found) == 1 else None
 
 
-def _closer_to_zero(exercise, answer, wrong, params) -> bool:
+def _closer_to_zero(exercise, answer, wrong, params, tolerances=None) -> bool:
     """Does a mistake whose value is within tolerance of zero match ``answer`` only as zero does?
 
     A result 1000 times too small (mm for m) of a small reference can be 0 within the
@@ -511,7 +779,7 @@ def _closer_to_zero(exercise, answer, wrong, params) -> bool:
     if not np.any(values):
         return False
     zero = np.zeros_like(values) if values.ndim else 0.0
-    if not compare(exercise, zero, values, params)[0]:
+    if not compare(exercise, zero, values, params, tolerances)[0]:
         return False
     given = _as_number(answer) if exercise.kind == "number" else _numeric_matrix(answer,
                                                                                  values.ndim)

@@ -20,7 +20,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
-__all__ = ["KINDS", "RESERVED_NAMES", "Exercise", "Mistake", "Params"]
+__all__ = ["KINDS", "MIN_VARIANTS", "PRINTED", "RESERVED_NAMES", "Exercise", "Mistake", "Params"]
 
 #: answer kinds and what the answer variable holds
 KINDS = {
@@ -34,6 +34,14 @@ KINDS = {
 
 #: notebook names a task's parameters may not take (the setup cell and the id cell own them)
 RESERVED_NAMES = frozenset({"STUDENT_ID", "check", "task"})
+
+#: ``Exercise(tolerance=PRINTED)``: the tolerance follows the rounding of the printed inputs
+#: (:func:`photolib.grading.judge.printed_tolerance`)
+PRINTED = "printed"
+
+#: distinct variants (what the student sees and the correct answer) an exercise must draw,
+#: unless its ``few_variants`` says why it cannot
+MIN_VARIANTS = 50
 
 _ID = re.compile(r"^[a-z0-9]+(?:[.-][a-z0-9]+)*$")
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
@@ -106,9 +114,14 @@ class Exercise:
         ``reference(params)`` returns the correct answer (for ``kind="function"``: a function).
     rtol, atol : float
         Tolerances of numbers and arrays; ``atol`` is also the tolerance of matrix entries.
-    tolerance : callable, optional
+    tolerance : callable or ``PRINTED``, optional
         ``tolerance(params) -> (rtol, atol)`` for tolerances that depend on the variant, e.g.
         from error propagation (:func:`photolib.grading.judge.propagated_atol`).
+        :data:`PRINTED` derives it from the statement as printed: every float input is
+        rounded to its last printed digit, so the answer may differ by what half a unit of
+        each digit changes (propagated, per entry and, for functions, per test input), plus
+        float32 (rtol 1e-6), but never so much that a declared or generic mistake comes
+        within reach (:func:`photolib.grading.judge.printed_tolerance`).
     mistakes : tuple of Mistake
         Exercise-specific mistakes, tried before the generic ones of the answer kind.
     cases : callable, optional
@@ -122,6 +135,14 @@ class Exercise:
         (angles are signed), so ``Abs(sin(omega))`` does not pass for ``sin(omega)``.
     choices : dict, optional
         For multiple choice: option key -> option text.
+    exact : tuple of str
+        Float parameters that are exact as printed, not measurements rounded to their last
+        digit (a significance level α = 0.05, a stated requirement): the rounding of the
+        printed inputs (``tolerance=PRINTED`` and the policy's tests) leaves them alone.
+    few_variants : str
+        Why this exercise cannot draw :data:`MIN_VARIANTS` distinct variants (a multiple
+        choice has as many correct answers as options); empty when it does. The tests count
+        the distinct variants of every exercise and hold it to this.
     """
 
     id: str
@@ -141,6 +162,8 @@ class Exercise:
     symbols: tuple = ()
     positive: tuple = ()
     choices: dict = field(default_factory=dict)
+    exact: tuple = ()
+    few_variants: str = ""
 
     def __post_init__(self):
         if not _ID.match(self.id):
@@ -165,7 +188,18 @@ class Exercise:
             raise ValueError(f"exercise {self.id}: a function exercise needs cases")
         if self.kind == "choice" and not self.choices:
             raise ValueError(f"exercise {self.id}: a multiple choice needs choices")
+        if isinstance(self.tolerance, str) and self.tolerance != PRINTED:
+            raise ValueError(f"exercise {self.id}: tolerance {self.tolerance!r} is neither a "
+                             f"function nor {PRINTED!r}")
 
     def tolerances(self, params: Params) -> tuple[float, float]:
-        """``(rtol, atol)`` for this variant."""
+        """``(rtol, atol)`` for this variant (``atol`` may be an array, one per entry).
+
+        For a function exercise with ``tolerance=PRINTED`` this is ``(rtol, floor)``: the
+        absolute tolerance depends on the test inputs, and
+        :func:`photolib.grading.judge.judge` widens it per input.
+        """
+        if self.tolerance == PRINTED:
+            from photolib.grading.judge import printed_tolerance
+            return printed_tolerance(self)(params)
         return self.tolerance(params) if self.tolerance else (self.rtol, self.atol)

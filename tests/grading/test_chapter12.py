@@ -45,7 +45,9 @@ class TestChapter12(ChapterChecks, BatchGradedChecks):
 def test_a_slightly_wrong_function_is_wrong_without_a_hint():
     ex = BY_ID["prd.ortho-to-image"]
     f = ex.reference(parameters_for(ex, STUDENTS[0]))
-    verdict = _judge(ex, STUDENTS[0], lambda X, Y: f(X, Y) + 0.001)
+    # 20 µm: the printed inputs (c to 0.01 mm, angles to 0.001°) justify some 5 µm, so the
+    # old 1 µm offset is now within the tolerance of docs/instructors.md
+    verdict = _judge(ex, STUDENTS[0], lambda X, Y: f(X, Y) + 0.02)
     assert verdict.status == "wrong" and verdict.mistake == "other"
 
 

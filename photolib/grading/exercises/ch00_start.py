@@ -10,8 +10,7 @@ import math
 import numpy as np
 
 from photolib.grading import hints
-from photolib.grading.judge import propagated_atol
-from photolib.grading.spec import Exercise, Mistake
+from photolib.grading.spec import PRINTED, Exercise, Mistake
 from photolib.grading.variants import aerial_camera, close_range_camera
 
 CHAPTER = "00-start"
@@ -30,9 +29,6 @@ def _scale(p):
     return p["h_m"] / (p["c_mm"] / 1000.0)
 
 
-def _scale_tolerance(p):
-    # m_b may be rounded to a whole number, or computed from c and h rounded once more
-    return 1e-6, max(0.5, propagated_atol(_scale, p, {"c_mm": 0.0005, "h_m": 0.005}))
 
 
 image_scale = Exercise(
@@ -41,7 +37,8 @@ image_scale = Exercise(
     kind="number", answer="scale_number",
     statement="{camera} with camera constant c = {c_mm} mm {distance} h = {h_m} m above a "
               "flat object. Compute the image scale number m_b = h / c (dimensionless).",
-    parameters=_scale_params, reference=_scale, tolerance=_scale_tolerance,
+    # m_b may be rounded to a whole number: at least 0.5
+    parameters=_scale_params, reference=_scale, tolerance=PRINTED, atol=0.5,
     mistakes=(hints.sign_of(_scale, "c_mm"),))
 
 
@@ -58,7 +55,7 @@ rotation_2d = Exercise(
     statement="Build the 2×2 matrix that rotates plane coordinates counter-clockwise by "
               "κ = {kappa_gon} gon (400 gon = 360°), as a NumPy array.",
     parameters=lambda rng: {"kappa_gon": round(float(rng.uniform(5.0, 395.0)), 3)},
-    reference=_rot2, atol=1e-6,
+    reference=_rot2, tolerance=PRINTED, atol=1e-6,
     mistakes=(hints.scaled_parameter(_rot2, "kappa_gon", 200.0 / math.pi, "gon"),
               hints.scaled_parameter(_rot2, "kappa_gon", 200.0 / 180.0, "degrees",
                                      "the angle was converted as if it were in degrees; "
@@ -79,7 +76,7 @@ rotation_x = Exercise(
     statement="Build R_ω, the active right-handed rotation about the X axis by "
               "ω = {omega_deg}° (course convention), as a 3×3 NumPy array.",
     parameters=lambda rng: {"omega_deg": round(float(rng.uniform(-30.0, 30.0)), 2)},
-    reference=_rot_x, atol=1e-6,
+    reference=_rot_x, tolerance=PRINTED, atol=1e-6,
     mistakes=(hints.scaled_parameter(_rot_x, "omega_deg", 180.0 / math.pi, "degrees"),))
 
 
@@ -92,7 +89,8 @@ def _rot_x_symbolic(p):
 
 rotation_x_symbolic = Exercise(
     params_name="p_rotx_sym",
-    id="demo.rotation-x-symbolic", points=2, title="R_ω with SymPy", kind="expression",
+    id="demo.rotation-x-symbolic",
+    few_variants="the worked example of 00-start: R_x(omega) in symbols, the same for everyone", points=2, title="R_ω with SymPy", kind="expression",
     answer="R_omega_sym", symbols=("omega",),
     statement="Write R_ω as a SymPy Matrix in the symbol omega = sympy.Symbol('omega').",
     parameters=lambda rng: {}, reference=_rot_x_symbolic)
@@ -106,7 +104,8 @@ def _scale_cases(rng, p):
 
 scale_function = Exercise(
     params_name="p_scale_fn",
-    id="demo.scale-function", points=2, title="Image scale number as a function",
+    id="demo.scale-function",
+    few_variants="the worked example of 00-start: m_b(c, h) = h/c has no variant of its own", points=2, title="Image scale number as a function",
     kind="function", answer="image_scale_number", rtol=1e-6, atol=1e-9,
     statement="Write image_scale_number(c_mm, h_m) returning m_b for a camera constant in mm "
               "and a distance in m. It is tested on cameras you do not see.",
@@ -129,7 +128,8 @@ def _choice_params(rng):
 
 inverse_choice = Exercise(
     params_name="p_inverse",
-    id="demo.inverse-choice", points=1, title="Inverse of a rotation matrix", kind="choice",
+    id="demo.inverse-choice",
+    few_variants="a multiple choice of four options: four correct answers at most", points=1, title="Inverse of a rotation matrix", kind="choice",
     answer="choice_inverse",
     statement="The inverse of a rotation matrix R is {options}. Set the answer to the letter.",
     parameters=_choice_params, reference=lambda p: p["correct"],

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 
-from photolib.grading.spec import Exercise, Mistake
+from photolib.grading.spec import PRINTED, Exercise, Mistake
 from photolib.grading.variants import aerial_camera
 
 CHAPTER = "01-introduction"
@@ -67,7 +67,8 @@ def _wrong_class(index):
 
 classes = Exercise(
     params_name="p_classes",
-    id="int.classes", points=1, kind="choice", answer="choice_class",
+    id="int.classes",
+    few_variants="a multiple choice of four options: four correct answers at most", points=1, kind="choice", answer="choice_class",
     title="Classes of photogrammetry / Einteilung",
     statement="Task: {task}. Which class of photogrammetry by the number of images is this: "
               "{options}? Set the answer to the letter.",
@@ -95,7 +96,8 @@ def _history_params(rng):
 
 history = Exercise(
     params_name="p_history",
-    id="int.history", points=1, kind="choice", answer="choice_history",
+    id="int.history",
+    few_variants="a multiple choice of four options: four correct answers at most", points=1, kind="choice", answer="choice_history",
     title="History / Geschichte",
     statement="When and where was the International Society for Photogrammetry (ISP, today "
               "ISPRS) founded: {options}? Set the answer to the letter.",
@@ -127,7 +129,7 @@ scale_number = Exercise(
     statement="An aerial camera with the camera constant c = {c_mm} mm takes a vertical image "
               "from H = {h_m} m above flat ground. The image scale is 1 : m_b. What is the "
               "image scale number m_b?",
-    parameters=_scale_params, reference=_scale_number, rtol=1e-4, atol=0.0,
+    parameters=_scale_params, reference=_scale_number, tolerance=PRINTED, rtol=1e-4, atol=0.0,
     mistakes=(
         Mistake("units-mm-m", "c is in mm and H in m: convert c to m before m_b = H/c",
                 lambda p: p["h_m"] / p["c_mm"]),
@@ -232,7 +234,7 @@ ground_size = Exercise(
     statement="A camera has a square image format of {format_mm} mm × {format_mm} mm and "
               "c = {c_mm} mm. Write ground_size(H) returning the side length in **m** of the "
               "square ground area of a vertical image taken H m above flat ground.",
-    parameters=_ground_params, reference=_ground_size(), cases=_ground_cases,
+    parameters=_ground_params, reference=_ground_size(), tolerance=PRINTED, cases=_ground_cases,
     rtol=1e-6, atol=0.0,   # float32 (2e-7); the old 1e-9 rejected it
     mistakes=(
         Mistake("half", "that is half the side (from the principal point to the edge); the "

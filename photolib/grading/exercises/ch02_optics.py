@@ -23,7 +23,7 @@ import math
 import numpy as np
 
 from photolib.grading import hints
-from photolib.grading.spec import Exercise, Mistake
+from photolib.grading.spec import PRINTED, Exercise, Mistake
 
 CHAPTER = "02-optics"
 
@@ -49,7 +49,7 @@ image_distance = Exercise(
     statement="A thin lens of focal length f = {f_mm} mm is focused on an object at the "
               "distance a = {a_m} m in front of it. How far behind the lens is the sharp "
               "image (image distance a′, in mm)?",
-    parameters=_image_params, reference=_image_distance, rtol=1e-5, atol=0.0,
+    parameters=_image_params, reference=_image_distance, tolerance=PRINTED, rtol=1e-5, atol=0.0,
     mistakes=(
         Mistake("sign", "the imaging equation is 1/a + 1/a′ = 1/f, so 1/a′ = 1/f − 1/a "
                         "(not + 1/a)", lambda p: _image_distance(p, sign=+1.0)),
@@ -97,7 +97,7 @@ depth_of_field = Exercise(
               "a = {a_m} m. The permissible circle of confusion is u′ = {u_um} µm. Give the "
               "near limit a_v, the far limit a_h and the depth of field t = a_h − a_v, all in "
               "m, as a NumPy array (a_v, a_h, t) of shape (3,).",
-    parameters=_dof_params, reference=_dof, rtol=1e-4, atol=1e-6,
+    parameters=_dof_params, reference=_dof, tolerance=PRINTED, rtol=1e-4, atol=1e-6,
     mistakes=(
         hints.erratum_version("de-summary:depth-of-field-t", _dof_printed_t, "printed"),
         Mistake("swapped", "the near limit a_v is the smaller distance: a_v = a·f²/(f² + u′k(a − f))",
@@ -128,7 +128,7 @@ airy_radius = Exercise(
     statement="A diffraction-limited lens works at f-number k = {k} in light of wavelength "
               "λ = {wavelength_nm} nm. What is the radius of the Airy disk (the first dark "
               "ring of the diffraction pattern) in the image, in µm?",
-    parameters=_airy_params, reference=_airy, rtol=1e-3, atol=0.0,
+    parameters=_airy_params, reference=_airy, tolerance=PRINTED, rtol=1e-3, atol=0.0,
     mistakes=(
         Mistake("units-nm-um", _NM, lambda p: _airy(p, 1e3)),
         Mistake("units-nm-um", _NM, lambda p: _airy(p, 1e-3)),
@@ -166,7 +166,7 @@ snell = Exercise(
     statement="A ray passes from {medium} (n1 = {n1}) into glass (n2 = {n2}) at the angle of "
               "incidence α = {alpha_deg}° to the normal. What is the angle of refraction β "
               "in degrees?",
-    parameters=_snell_params, reference=_snell, rtol=0.0, atol=1e-4,
+    parameters=_snell_params, reference=_snell, tolerance=PRINTED, rtol=0.0, atol=1e-4,
     mistakes=(
         Mistake("degrees", "that is β in radians; the question asks for degrees "
                            "(numpy.degrees)", lambda p: math.radians(_snell(p))),
@@ -201,7 +201,7 @@ vignetting_corner = Exercise(
     statement="A camera with the format {format} and camera constant c = {c_mm} mm has an "
               "ideal lens with only natural vignetting. What fraction E(τ)/E(0) of the "
               "irradiance in the image centre reaches a corner of the format?",
-    parameters=_corner_params, reference=_corner, rtol=1e-5, atol=0.0,
+    parameters=_corner_params, reference=_corner, tolerance=PRINTED, rtol=1e-5, atol=0.0,
     mistakes=(
         Mistake("power", "the fall-off is cos⁴τ: cos²τ from the distance, one cos τ from "
                          "the foreshortened aperture, one from the oblique incidence",
@@ -303,7 +303,8 @@ def _stop_letter(index):
 
 stop_down = Exercise(
     params_name="p_stop",
-    id="opt.stop-down", points=1, kind="choice", answer="choice_stop",
+    id="opt.stop-down",
+    few_variants="a multiple choice of four options: four correct answers at most", points=1, kind="choice", answer="choice_stop",
     title="Stopping down / Abblenden",
     statement="A photographer stops a lens down from f-number k = {k} to k = {k2} (twice "
               "the f-number) and keeps the focus. Which is right? {options}. Set the answer "

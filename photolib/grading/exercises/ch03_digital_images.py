@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import math
 
-from photolib.grading.spec import Exercise, Mistake
+from photolib.grading.spec import PRINTED, Exercise, Mistake
 from photolib.grading.variants import aerial_camera
 
 CHAPTER = "03-digital-images"
@@ -44,7 +44,9 @@ gsd = Exercise(
     statement="A digital aerial camera has square pixels of {pixel_um} µm and the camera "
               "constant c = {c_mm} mm. It takes a vertical image from H = {h_m} m above flat "
               "ground. What is the ground sampling distance (GSD) in **cm**?",
-    parameters=_camera, reference=_gsd_cm, rtol=1e-3, atol=0.0,
+    # a pixel pitch is a design value, exact as printed (the sensors of _PIXELS_UM)
+    parameters=_camera, reference=_gsd_cm, tolerance=PRINTED, exact=("pixel_um",),
+    rtol=1e-3, atol=0.0,
     mistakes=(
         Mistake("units-um", "the pixel pitch is in µm: divide by 1000 to get mm, the unit of c "
                             "(GSD = p·H/c with p and c in the same unit)",
@@ -68,7 +70,8 @@ def _bits(p, rounding=math.ceil, log=math.log2):
 
 bits = Exercise(
     params_name="p_bits",
-    id="dig.bits", points=2, kind="number", answer="b",
+    id="dig.bits",
+    few_variants="the answer is a bit depth, a whole number from 8 to 16 (392 of 400 statements differ)", points=2, kind="number", answer="b",
     title="Bit depth for a dynamic range / Bittiefe und Dynamikumfang",
     statement="A sensor has a full well (Fassungsvermögen) of {full_well} e⁻ and a read noise "
               "of {read_noise} e⁻. Its dynamic range is DR = full well / read noise. What is "
@@ -148,10 +151,12 @@ snr_db = Exercise(
     id="dig.snr-db", points=3, kind="number", answer="snr_db",
     title="Signal-to-noise ratio in dB / Signal-Rausch-Verhältnis",
     statement="A pixel collects a mean signal of S = {signal} e⁻ (photon shot noise: Poisson). "
-              "The read noise is {read_noise} e⁻, the gain K = {gain} e⁻/DN (quantisation "
+              "The read noise is {read_noise:.2f} e⁻, the gain K = {gain:.2f} e⁻/DN (quantisation "
               "noise K²/12 in e⁻²), the dark signal negligible. What is the SNR in **dB** "
               "(at least four decimals)?",
-    parameters=_snr_params, reference=_snr_db, rtol=0.0, atol=SNR_ATOL_DB,
+    # σ_r and K printed to 0.01 (σ_r is drawn to 0.1: "4.10"): their rounding moves the SNR
+    # by some 5e-4 dB, far less than the missing quantisation noise (≥ 0.12 dB)
+    parameters=_snr_params, reference=_snr_db, tolerance=PRINTED, rtol=0.0, atol=SNR_ATOL_DB,
     mistakes=(
         Mistake("power-db", "an SNR is a ratio of amplitudes (signal / standard deviation): "
                             "its dB value is 20·log10, not 10·log10",
@@ -190,7 +195,8 @@ def _option(index):
 
 bayer_green = Exercise(
     params_name="p_bayer",
-    id="dig.bayer-green", points=1, kind="choice", answer="choice_green",
+    id="dig.bayer-green",
+    few_variants="a multiple choice of four options: four correct answers at most", points=1, kind="choice", answer="choice_green",
     title="Bayer mosaic / Bayer-Muster",
     statement="A colour camera has a Bayer filter mosaic (RGGB). Which share of its pixels "
               "carries a green filter: {options}? Set the answer to the letter.",
@@ -225,7 +231,8 @@ gsd_function = Exercise(
     statement="For a camera with {pixel_um} µm pixels and c = {c_mm} mm write gsd_of_height(H) "
               "that returns the ground sampling distance in **cm** of a vertical image taken H m "
               "above flat ground. It is tested on heights you do not see.",
-    parameters=_camera, reference=_gsd_function(), cases=_height_cases, rtol=1e-6, atol=0.0,
+    parameters=_camera, reference=_gsd_function(), cases=_height_cases, tolerance=PRINTED,
+    exact=("pixel_um",), rtol=1e-6, atol=0.0,
     mistakes=(
         Mistake("units-cm", "this is the GSD in m; gsd_of_height must return cm",
                 _gsd_function(out=1.0)),

@@ -19,7 +19,7 @@ import math
 import numpy as np
 
 from photolib.grading import hints
-from photolib.grading.spec import Exercise, Mistake, Params
+from photolib.grading.spec import PRINTED, Exercise, Mistake, Params
 
 CHAPTER = "04-rotations"
 
@@ -77,7 +77,7 @@ opk_matrix = Exercise(
               "φ = {phi_gon} gon (Längsneigung) and yaw κ = {kappa_gon} gon (Kantung); "
               "400 gon = 360°. Build the rotation matrix (Drehmatrix) R = R_ω·R_φ·R_κ of the "
               "course, which turns camera vectors into the object frame, as a 3×3 NumPy array.",
-    parameters=_opk_params, reference=_opk_reference, atol=1e-6,
+    parameters=_opk_params, reference=_opk_reference, tolerance=PRINTED, atol=1e-6,
     mistakes=(
         scaled_parameters(_opk_reference, _GON, 200.0 / math.pi, "gon"),
         scaled_parameters(_opk_reference, _GON, 200.0 / 180.0, "degrees",
@@ -268,7 +268,7 @@ ray_direction = Exercise(
               "on image points and attitudes you do not see.",
     # the cases are exact numbers and the result a unit vector: 1e-6 accepts float32 and
     # OpenCV (float32 eps ≈ 6e-8) while every mistake below moves some entry by far more
-    parameters=_ray_params, reference=_ray_function(), cases=_ray_cases, rtol=0.0, atol=1e-6,
+    parameters=_ray_params, reference=_ray_function(), tolerance=PRINTED, cases=_ray_cases, rtol=0.0, atol=1e-6,
     mistakes=(
         Mistake("transposed", "Rᵀ turns object vectors into the camera frame; here R·x* is "
                               "needed", _ray_function(transpose=True)),

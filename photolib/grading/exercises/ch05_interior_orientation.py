@@ -18,8 +18,7 @@ import math
 import numpy as np
 
 from photolib.grading import hints
-from photolib.grading.judge import propagated_atol
-from photolib.grading.spec import Exercise, Mistake
+from photolib.grading.spec import PRINTED, Exercise, Mistake
 
 CHAPTER = "05-interior-orientation"
 
@@ -63,9 +62,6 @@ def _field_angle(p):
     return math.degrees(math.atan2(_half_diagonal(p), p["c_mm"]))
 
 
-def _field_tolerance(p):
-    """τ is as exact as the printed pixel size (0.01 µm) and c (0.001 mm) allow."""
-    return 0.0, propagated_atol(_field_angle, p, {"pixel_um": 0.005, "c_mm": 0.0005})
 
 
 field_angle = Exercise(
@@ -78,7 +74,7 @@ field_angle = Exercise(
               "angle τ between the optical axis and the ray to a corner of the image format, "
               "i.e. half the format angle over the diagonal (halber Formatwinkel or "
               "Bildwinkel, tan τ = r′/c), in degrees.",
-    parameters=_field_params, reference=_field_angle, tolerance=_field_tolerance,
+    parameters=_field_params, reference=_field_angle, tolerance=PRINTED,
     mistakes=(
         hints.scaled_parameter(_field_angle, "pixel_um", 1000.0, "units-mm-m",
                                "off by 1000 in the pixel size: µm versus mm?"),
@@ -132,7 +128,8 @@ def _radial(p, balanced=None, divide=True):
 
 radial_factor = Exercise(
     params_name="p_radial",
-    id="io.radial-factor", points=2, kind="expression", answer="radial",
+    id="io.radial-factor",
+    few_variants="a symbolic derivation: the radial models of the course give 8 formulas", points=2, kind="expression", answer="radial",
     symbols=("r", "x", "y", "A1", "A2", "A3", "r0"),
     title="Radial-symmetric distortion (radialsymmetrische Verzeichnung)",
     statement="Write with SymPy {what}, for the radial-symmetric distortion with the "
@@ -181,7 +178,7 @@ image_vector = Exercise(
     # relative 1e-6 accepts float32 (eps ≈ 6e-8) and a result printed to 1e-6 mm; the
     # rounding of the printed inputs (1 µm) is not added: it would hide the distortion-point
     # mistakes, which move x* by 0.1 µm and more
-    parameters=_vector_params, reference=_vector, rtol=1e-6, atol=1e-6,
+    parameters=_vector_params, reference=_vector, tolerance=PRINTED, rtol=1e-6, atol=1e-6,
     mistakes=(
         Mistake("distortion-point", _DISTORTION_POINT,
                 lambda p: _vector(p, _distortion(p, sign=-1.0).distort(_reduced(p)))),
@@ -230,7 +227,7 @@ measured_position = Exercise(
               "this point is measured, as a NumPy array (x_m, y_m) in mm, to 1e-6 mm. "
               "Remember that Δ is evaluated at the measured point. It is tested on points you "
               "do not see.",
-    parameters=_lens_params, reference=_lens_function(_measured), cases=_lens_cases,
+    parameters=_lens_params, reference=_lens_function(_measured), tolerance=PRINTED, cases=_lens_cases,
     rtol=0.0, atol=1e-6,
     mistakes=(
         Mistake("distortion-point", _DISTORTION_POINT + ": iterate x ← x_ideal + Δ(x)",

@@ -19,7 +19,7 @@ import numpy as np
 
 from photolib.grading import hints
 from photolib.grading.exercises.ch04_rotations import scaled_parameters
-from photolib.grading.spec import Exercise, Mistake
+from photolib.grading.spec import PRINTED, Exercise, Mistake
 
 CHAPTER = "06-collinearity"
 
@@ -84,7 +84,7 @@ project = Exercise(
     statement="An aerial image has the exterior orientation (äußere Orientierung): "
               + _ORIENTATION_TEXT + ". Compute the image coordinates (x', y') in mm of the "
               "ground point X = ({X}, {Y}, {Z}) m, as a NumPy array of shape (2,).",
-    parameters=_project_params, reference=_project, rtol=0.0, atol=1e-6,
+    parameters=_project_params, reference=_project, tolerance=PRINTED, rtol=0.0, atol=1e-6,
     mistakes=(
         Mistake("transposed", "Rᵀ and R are swapped: (kx, ky, N) = Rᵀ(X − X0)",
                 lambda p: _project_formula(p, transpose=True)),
@@ -205,7 +205,7 @@ dy_dphi = Exercise(
               "Compute the partial derivative ∂y'/∂φ (partielle Ableitung nach φ) of the "
               "collinearity equations for this point, in mm per radian (Luhmann 4.18 in kx, ky, "
               "N, or your own derivation).",
-    parameters=_dphi_params, reference=_dy_dphi, rtol=1e-6, atol=1e-9,
+    parameters=_dphi_params, reference=_dy_dphi, tolerance=PRINTED, rtol=1e-6, atol=1e-9,
     mistakes=(
         hints.erratum_version("luhmann:4.18b", _evaluate_418),
         Mistake("degrees", "this is per degree; the derivative is wanted per radian",
@@ -262,7 +262,7 @@ ground_point = Exercise(
               "NumPy array of shape (3,), where the ray through the image point (x', y') = "
               "(x, y) in mm meets the horizontal plane at height Z (m). It is tested on image "
               "points and heights you do not see.",
-    parameters=_ground_params, reference=_ground_function(library=True), cases=_ground_cases,
+    parameters=_ground_params, reference=_ground_function(library=True), tolerance=PRINTED, cases=_ground_cases,
     rtol=1e-6, atol=1e-6,
     mistakes=(
         Mistake("transposed", "the ray in the object frame is R·x*, not Rᵀ·x*",

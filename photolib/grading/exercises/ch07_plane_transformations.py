@@ -24,8 +24,7 @@ import math
 import numpy as np
 
 from photolib.grading import hints
-from photolib.grading.judge import propagated_atol
-from photolib.grading.spec import Exercise, Mistake
+from photolib.grading.spec import PRINTED, Exercise, Mistake
 
 CHAPTER = "07-plane-transformations"
 
@@ -67,13 +66,6 @@ def _helmert_swapped(p):
     return np.array(list(_helmert_fit(p, swapped=True).params.values()))
 
 
-def _helmert_tolerance(p):
-    """Per parameter: what rounding the printed coordinates (1 mm) does to a0, b0, a1, b1.
-
-    An exact solution, a least-squares one (OpenCV's estimateAffinePartial2D) or one rounded
-    sensibly differ by far less; a mistake changes some parameter by far more.
-    """
-    return 0.0, propagated_atol(_helmert_reference, p, {"src": 0.0005, "dst": 0.0005})
 
 
 def _helmert_notes_sign(p):
@@ -90,7 +82,7 @@ helmert_two_points = Exercise(
               "p_helmert.src and p_helmert.dst). Determine the 4-parameter similarity (Helmert) transformation "
               "local → map of the course, X = a0 + a1·x − b1·y, Y = b0 + b1·x + a1·y, and give "
               "the NumPy array [a0, b0, a1, b1].",
-    parameters=_helmert_params, reference=_helmert_reference, tolerance=_helmert_tolerance,
+    parameters=_helmert_params, reference=_helmert_reference, tolerance=PRINTED,
     mistakes=(
         Mistake("swapped", _SWAPPED.format(src="(x, y)", dst="(X, Y)"), _helmert_swapped),
         Mistake("sign-b1", "the sign of b1 is reversed: that is the Polish notes' form "
@@ -184,7 +176,7 @@ projective_point = Exercise(
               "X = (a0 + a1·x' + a2·y')/(1 + c1·x' + c2·y'), …) and give the façade "
               "coordinates of the window corner measured at (x', y') = {P_text} mm as the "
               "NumPy array [X, Y] in m.",
-    parameters=_projective_params, reference=_projective_reference, rtol=0.0, atol=1e-6,
+    parameters=_projective_params, reference=_projective_reference, tolerance=PRINTED, rtol=0.0, atol=1e-6,
     mistakes=(
         Mistake("swapped", "the transformation was estimated façade → image and applied to "
                            "image coordinates: estimate image → façade (or apply the inverse)",
@@ -221,10 +213,6 @@ def _cross_reference(p):
     return sB * sC / (sB - lam * (sC - sB))
 
 
-def _cross_tolerance(p):
-    """s_D is as exact as the printed positions (0.001 mm) and distances (0.001 m) allow."""
-    return 0.0, propagated_atol(_cross_reference, p, {k: 0.0005 for k in
-                                                      ("a", "b", "c", "d", "sB", "sC")})
 
 
 cross_ratio = Exercise(
@@ -236,7 +224,7 @@ cross_ratio = Exercise(
               "line). In the object, B is {sB} m and C is {sC} m from A, in the same direction "
               "as D. The cross ratio (Doppelverhältnis, Luhmann 2.21) is invariant under "
               "central projection: compute the distance s_D of D from A in m.",
-    parameters=_cross_params, reference=_cross_reference, tolerance=_cross_tolerance,
+    parameters=_cross_params, reference=_cross_reference, tolerance=PRINTED,
     mistakes=(
         Mistake("affine-ratio", "the simple ratio (Teilverhältnis) is kept by affine maps only; "
                                 "a central projection keeps the cross ratio of four points",
@@ -281,7 +269,8 @@ _old_print = hints.erratum_version("luhmann:2.21", lambda expr, p: _solve_for(st
 
 cross_ratio_solved = Exercise(
     params_name="p_cross_sym",
-    id="plane.cross-ratio-solved", points=2, kind="expression", answer="t_solved",
+    id="plane.cross-ratio-solved",
+    few_variants="a symbolic derivation: the cross ratio solved for one of four points", points=2, kind="expression", answer="t_solved",
     symbols=("t_A", "t_B", "t_C", "t_D", "lam"),
     title="The cross ratio solved for one point (Doppelverhältnis nach einem Punkt aufgelöst)",
     statement="The cross ratio of four collinear points with signed positions t_A, t_B, t_C, "
@@ -357,7 +346,7 @@ fiducial_affine = Exercise(
               "(col, row) → (x', y') by least squares from the four marks (interior "
               "orientation) and give the image coordinates of the point measured at "
               "(col, row) = {P_text} as the NumPy array [x', y'] in mm.",
-    parameters=_fiducial_params, reference=_fiducial_reference, rtol=0.0, atol=1e-4,
+    parameters=_fiducial_params, reference=_fiducial_reference, tolerance=PRINTED, rtol=0.0, atol=1e-4,
     mistakes=(
         Mistake("helmert", "a Helmert (similarity) transformation cannot absorb the scanner's "
                            "different scales and shear; the task asks for the affine "
@@ -435,7 +424,7 @@ bilinear_function = Exercise(
               "X = a0 + a1·x + a2·y + a3·x·y, Y = b0 + b1·x + b2·y + b3·x·y with {text} "
               "(also p_bil.a0, …, p_bil.b3). Write bilinear(x, y) returning the NumPy array [X, Y]. It "
               "is tested on sheet points you do not see.",
-    parameters=_bilinear_params, reference=_bilinear_function, cases=_bilinear_cases,
+    parameters=_bilinear_params, reference=_bilinear_function, tolerance=PRINTED, cases=_bilinear_cases,
     rtol=1e-6, atol=1e-6,
     mistakes=(
         Mistake("erratum", "this is the bilinear formula as printed in the Polish notes "

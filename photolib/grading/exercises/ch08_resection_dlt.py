@@ -26,8 +26,7 @@ import numpy as np
 
 from photolib.grading import hints
 from photolib.grading.exercises.ch04_rotations import scaled_parameters
-from photolib.grading.judge import rounding_tolerance
-from photolib.grading.spec import Exercise, Mistake
+from photolib.grading.spec import PRINTED, Exercise, Mistake
 from photolib.grading.variants import aerial_camera, close_range_camera
 
 CHAPTER = "08-resection-dlt"
@@ -134,7 +133,7 @@ dlt_vector = Exercise(
     # the printed inputs' rounding (1e-3 mm, m and °) and float32 (rtol 1e-6); the old
     # rtol 1e-7 rejected a float32 computation and L printed to 7 significant digits
     parameters=_close_range_orientation, reference=_dlt_vector,
-    tolerance=lambda p: _DLT_VECTOR_TOLERANCE(p),
+    tolerance=PRINTED,
     mistakes=(
         Mistake("transposed", "R and Rᵀ are swapped: the DLT matrix is K·Rᵀ·[I | −X0]",
                 lambda p: _dlt_formula(p, R=_rotation(p).T)),
@@ -153,9 +152,6 @@ dlt_vector = Exercise(
     ))
 
 
-_DLT_VECTOR_TOLERANCE = rounding_tolerance(
-    _dlt_vector, {name: 0.0005 for name in ("c_mm", "x0_mm", "y0_mm", "X0", "Y0", "Z0") + _ANGLES},
-    mistakes=[m.wrong for m in dlt_vector.mistakes])
 
 
 # -- 3. interior orientation from L (array) -------------------------------------------------------
@@ -245,7 +241,8 @@ def _coefficient(p, transpose=False, c_sign=1, normalise=True, d_sign=1, x0_sign
 
 dlt_coefficient = Exercise(
     params_name="p_coef",
-    id="rdl.dlt-coefficient", points=3, kind="expression", answer="Lk",
+    id="rdl.dlt-coefficient",
+    few_variants="a symbolic derivation: one of the eleven DLT coefficients", points=3, kind="expression", answer="Lk",
     symbols=("r11", "r12", "r13", "r21", "r22", "r23", "r31", "r32", "r33",
              "X0", "Y0", "Z0", "c", "x0", "y0"),
     title="A DLT coefficient from the collinearity equations (Herleitung)",

@@ -24,9 +24,8 @@ import math
 import numpy as np
 
 from photolib.grading import hints
-from photolib.grading.judge import rounding_tolerance
 from photolib.grading.exercises.ch04_rotations import scaled_parameters
-from photolib.grading.spec import Exercise, Mistake
+from photolib.grading.spec import PRINTED, Exercise, Mistake
 from photolib.grading.variants import aerial_camera, close_range_camera
 
 CHAPTER = "09-stereo"
@@ -57,7 +56,7 @@ height = Exercise(
     # the rounding of the printed c (0.01 mm), B (0.1 m) and px' (0.001 mm): some 0.1 m, so Z
     # given to the cm (six digits) passes; rtol 1e-6 alone rejected it. The mistakes below
     # change the sign or the unit of Z, far outside
-    parameters=_height_params, reference=_height, tolerance=lambda p: _HEIGHT_TOLERANCE(p),
+    parameters=_height_params, reference=_height, tolerance=PRINTED,
     mistakes=(
         Mistake("sign-c", hints.MESSAGES["sign-c"] + ": Z = −c·B/px' is negative, the point "
                 "lies below the cameras (the distance h = −Z is positive)",
@@ -70,8 +69,6 @@ height = Exercise(
                 lambda p: _height(p, c=p["c_mm"] / 1000.0)),
     ))
 
-_HEIGHT_TOLERANCE = rounding_tolerance(_height, {"c_mm": 0.005, "B_m": 0.05, "px_mm": 0.0005},
-                                       mistakes=[m.wrong for m in height.mistakes])
 
 
 # -- 2. σ_Z of a stereo pair (number) -------------------------------------------------------------
@@ -100,7 +97,7 @@ sigma_z = Exercise(
               "h = {h_m} m, base B = {B_m} m. The image coordinates x'1 and x'2 are measured "
               "independently, each with σ_x' = {s_x_um} µm. Give the standard deviation σ_Z of "
               "the depth in mm.",
-    parameters=_sigma_params, reference=_sigma_z, rtol=1e-6, atol=1e-9,
+    parameters=_sigma_params, reference=_sigma_z, tolerance=PRINTED, rtol=1e-6, atol=1e-9,
     mistakes=(
         Mistake("parallax", "the parallax px' = x'1 − x'2 is the difference of two independently "
                             "measured coordinates: σ_px' = √2·σ_x' (error propagation), not "
@@ -163,7 +160,7 @@ intersection = Exercise(
               "the origin, camera 2 at (B, 0, 0), R = I. Write point(x1, y1, x2, y2) that "
               "returns the object point (X, Y, Z) in m (NumPy array of shape (3,)) from the "
               "image coordinates (mm) of both images. It is tested on points you do not see.",
-    parameters=_intersection_params, reference=_intersection_function(),
+    parameters=_intersection_params, reference=_intersection_function(), tolerance=PRINTED,
     cases=_intersection_cases, rtol=1e-6, atol=1e-9,
     mistakes=(
         Mistake("principal-point", "the image coordinates must be reduced to the principal "
@@ -207,7 +204,7 @@ essential = Exercise(
               "b·(R1·x*1 × R2·x*2) = 0 with b = X02 − X01 can be written x*1ᵀ·E·x*2 = 0. "
               "Give E = R1ᵀ·[b]×·R2 (in m) as a NumPy array of shape (3, 3), where "
               "[b]×·v = b × v.",
-    parameters=_essential_params, reference=_essential, rtol=1e-7, atol=1e-6,
+    parameters=_essential_params, reference=_essential, tolerance=PRINTED, rtol=1e-7, atol=1e-6,
     mistakes=(
         Mistake("transposed", "R and Rᵀ are swapped: R turns camera vectors into the object "
                               "frame, so the rays are R·x* and E = R1ᵀ·[b]×·R2",
@@ -274,7 +271,8 @@ def _swapped(p):
 
 unknowns = Exercise(
     params_name="p_unknowns",
-    id="st.unknowns", points=1, kind="choice", answer="choice_unknowns",
+    id="st.unknowns",
+    few_variants="a multiple choice: the correct answer is one of its few option letters", points=1, kind="choice", answer="choice_unknowns",
     title="Unknowns of the orientations / Unbekannte der Orientierungen",
     statement="{lead} How many unknowns does {task} have ({counted})? "
               "(a) 5, (b) 6, (c) 7, (d) 12, (e) 3. Set the answer to the letter.",

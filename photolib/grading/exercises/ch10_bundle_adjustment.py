@@ -22,7 +22,7 @@ import math
 import numpy as np
 
 from photolib.grading.judge import rounding_tolerance
-from photolib.grading.spec import Exercise, Mistake
+from photolib.grading.spec import PRINTED, Exercise, Mistake
 
 CHAPTER = "10-bundle-adjustment"
 
@@ -142,7 +142,8 @@ def _sum_params(rng):
 
 redundancy_sum = Exercise(
     params_name="p_rsum",
-    id="bun.redundancy-sum", points=1, kind="choice", answer="choice_sum",
+    id="bun.redundancy-sum",
+    few_variants="a multiple choice of four options: four correct answers at most", points=1, kind="choice", answer="choice_sum",
     title="Redundancy numbers / Redundanzanteile",
     statement="A free network (no control points, inner constraints) of {images} images and "
               "{points} new points has n = {n} observations and fixed interior orientation. "
@@ -179,7 +180,9 @@ critical_t = Exercise(
     statement="σ0 of a small adjustment is estimated with r = {dof} degrees of freedom. A "
               "residual is tested two-sided at significance level α = {alpha} with Student's "
               "t: give the critical value k with P(|T| > k) = α (three decimals suffice).",
-    parameters=_critical_params, reference=_critical, rtol=0.0, atol=1.5e-3,
+    # α is one of the conventional levels 0.1, 0.05, 0.01, 0.001: exact as printed
+    parameters=_critical_params, reference=_critical, tolerance=PRINTED, exact=("alpha",),
+    rtol=0.0, atol=1.5e-3,
     mistakes=(
         Mistake("erratum", "that is the normal quantile: with few degrees of freedom the "
                            "probability of a large deviation rises (Luhmann p. 90 as corrected, "

@@ -27,8 +27,7 @@ import math
 import numpy as np
 
 from photolib.grading import hints
-from photolib.grading.judge import rounding_tolerance
-from photolib.grading.spec import Exercise, Mistake
+from photolib.grading.spec import PRINTED, Exercise, Mistake
 
 CHAPTER = "11-image-measurement"
 
@@ -69,7 +68,7 @@ log_value = Exercise(
               "radius r = {r} px (unit px⁻⁴).",
     # the rounding of the printed r and σ (0.01 px), kept off the mistakes; the old rtol 1e-6
     # rejected ∇²G given to 4 significant digits
-    parameters=_log_params, reference=_log_value, tolerance=lambda p: _LOG_TOLERANCE(p),
+    parameters=_log_params, reference=_log_value, tolerance=PRINTED,
     mistakes=(
         hints.erratum_version("luhmann:5.42", _subs_r_sigma, "old"),
         Mistake("normalisation", "the factor 1/(πσ⁴) of the normalised Gaussian is missing: "
@@ -80,8 +79,6 @@ log_value = Exercise(
     ))
 
 
-_LOG_TOLERANCE = rounding_tolerance(_log_value, {"r": 0.005, "sigma": 0.005},
-                                    mistakes=[m.wrong for m in log_value.mistakes])
 
 
 # -- 2. moment-preserving threshold p1 (number) --------------------------------------------------
@@ -185,7 +182,7 @@ circle_conic = Exercise(
               "as a NumPy array (x_c, y_c, r) of shape (3,).",
     # 1e-4 px: D, E, F are printed to 4 decimals; float32 (1e-6 px) and answers to 4
     # decimals were rejected by the old 1e-7
-    parameters=_circle_params, reference=_circle, rtol=1e-6, atol=1e-4,
+    parameters=_circle_params, reference=_circle, tolerance=PRINTED, rtol=1e-6, atol=1e-4,
     mistakes=(
         hints.erratum_version("luhmann:2.86", _circle_old, "old"),
         Mistake("factor-2", "the conic is written with 2D and 2E (Luhmann 2.85): the centre is "
@@ -290,7 +287,7 @@ lsm_row = Exercise(
               "shape (8,), for the template pixel (x, y), the search-image grey value g = "
               "g(x', y') and its gradient gx = ∂g/∂x', gy = ∂g/∂y'.",
     # rtol 1e-6 accepts float32 (the old 1e-9 did not)
-    parameters=_lsm_params, reference=_lsm_reference, cases=_lsm_cases, rtol=1e-6, atol=1e-9,
+    parameters=_lsm_params, reference=_lsm_reference, tolerance=PRINTED, cases=_lsm_cases, rtol=1e-6, atol=1e-9,
     mistakes=(
         Mistake("erratum", "the geometric columns lack the factor r1: that is the old print of "
                            "5.72 (luhmann:5.72), right only while r1 = 1 (first iteration)",

@@ -22,8 +22,7 @@ import math
 
 import numpy as np
 
-from photolib.grading.judge import rounding_tolerance
-from photolib.grading.spec import Exercise, Mistake
+from photolib.grading.spec import PRINTED, Exercise, Mistake
 from photolib.grading.variants import aerial_camera
 
 CHAPTER = "12-products"
@@ -55,7 +54,7 @@ relief = Exercise(
               "radially from its foot?",
     # the rounding of the printed r, Δh, H, kept off the foot-formula mistake (which moves
     # Δr by as little as 0.2 %); the old 1e-6 rejected Δr given to 0.001 mm
-    parameters=_relief_params, reference=_relief, tolerance=lambda p: _RELIEF_TOLERANCE(p),
+    parameters=_relief_params, reference=_relief, tolerance=PRINTED,
     mistakes=(
         Mistake("units-mm-m", _MM_M, lambda p: _relief(p) * 1e-3),
         Mistake("units-mm-m", _MM_M, lambda p: _relief(p) * 1e3),
@@ -68,8 +67,6 @@ relief = Exercise(
     ))
 
 
-_RELIEF_TOLERANCE = rounding_tolerance(_relief, {"r_mm": 0.005, "dh": 0.05, "H": 0.5},
-                                       mistakes=[m.wrong for m in relief.mistakes])
 
 
 # -- 2. ortho pixel → image coordinates (function) ------------------------------------------------
@@ -120,7 +117,7 @@ ortho_to_image = Exercise(
               "the image coordinates (x', y') in mm (NumPy array of shape (2,)) of the ortho "
               "pixel whose centre lies at plan position (X, Y) — the point the indirect "
               "differential rectification takes its grey value from.",
-    parameters=_ortho_params, reference=_ortho_function(), cases=_ortho_cases,
+    parameters=_ortho_params, reference=_ortho_function(), tolerance=PRINTED, cases=_ortho_cases,
     # 1 µm: float32 loses up to 0.13 µm (X ≈ 5000 m); the old 1e-7 mm rejected float32 and
     # coordinates rounded to 0.1 µm
     rtol=0.0, atol=1e-3,
@@ -163,7 +160,8 @@ dtm_accuracy = Exercise(
     # the rounding of the printed c and dZ to the mm (the old 1e-6 rejected dZ to 0.001 m);
     # not the rounding of the tolerance (up to 5 %), which would merge the inverted and
     # full-diagonal mistakes where c ≈ √2·r (88 mm, DMC format)
-    parameters=_dtm_params, reference=_dtm_accuracy, tolerance=lambda p: _DTM_TOLERANCE(p),
+    parameters=_dtm_params, reference=_dtm_accuracy, tolerance=PRINTED, atol=5e-4,
+    exact=("tol_m",),
     mistakes=(
         Mistake("half-side", "the largest r is at the corner of the format: half the "
                              "diagonal, not half a side",
@@ -176,8 +174,6 @@ dtm_accuracy = Exercise(
     ))
 
 
-_DTM_TOLERANCE = rounding_tolerance(_dtm_accuracy, {"c_mm": 0.005}, floor=5e-4,
-                                    mistakes=[m.wrong for m in dtm_accuracy.mistakes])
 
 
 # -- 4. which product (choice) --------------------------------------------------------------------
@@ -221,7 +217,8 @@ def _product_mistake(n):
 
 product = Exercise(
     params_name="p_product",
-    id="prd.product", points=1, kind="choice", answer="choice_product",
+    id="prd.product",
+    few_variants="a multiple choice of four options: four correct answers at most", points=1, kind="choice", answer="choice_product",
     title="Which product? (Welches Produkt?)",
     statement="Task: {task}. Which product fits best? {options}. Set the answer to the letter.",
     parameters=_product_params, reference=lambda p: _TASKS[p["i"]][1], choices=_PRODUCTS,
@@ -249,7 +246,7 @@ occluded = Exercise(
               "away from it. How long (in m, on the ground, along the radial direction) is "
               "the strip behind the wall that the image cannot see?",
     # the rounding of the printed H, h, d (the old 1e-6 rejected L to 0.001 m)
-    parameters=_occluded_params, reference=_occluded, tolerance=lambda p: _OCCLUDED_TOLERANCE(p),
+    parameters=_occluded_params, reference=_occluded, tolerance=PRINTED,
     mistakes=(
         Mistake("relief-formula", "d·h/H is too short: the ray over the roof edge (d, h) "
                                   "reaches the ground at d·H/(H − h), so L = d·h/(H − h)",
@@ -260,7 +257,5 @@ occluded = Exercise(
     ))
 
 
-_OCCLUDED_TOLERANCE = rounding_tolerance(_occluded, {"H": 0.5, "h": 0.05, "d": 0.05},
-                                         mistakes=[m.wrong for m in occluded.mistakes])
 
 EXERCISES = (relief, ortho_to_image, dtm_accuracy, product, occluded)
