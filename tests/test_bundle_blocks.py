@@ -7,6 +7,9 @@ inverted with NumPy, and σ0, every covariance block, the redundancy numbers of 
 control observations and the w-test values compared to 1e-10 with the result of
 ``bundle_adjustment``, whose statistics come from the Schur structure only. The sparse
 solver of the reduced system (forced by ``DENSE_LIMIT = 0``) must give the same numbers.
+The self-calibration case estimates x0, y0 and A1 but not c: over 30 m of relief from 500 m,
+c and Z0 are correlated so closely that any two float64 inverses of N (this dense one
+included) agree only to about 1e-9.
 """
 
 from __future__ import annotations

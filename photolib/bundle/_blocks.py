@@ -351,6 +351,7 @@ class ReducedSystem:
                 np.tril(inv) + np.tril(inv, -1).T
         else:
             inv = self._solve_s(np.eye(ny))
+            inv = 0.5 * (inv + inv.T)  # K is symmetric: LU leaves rounding asymmetry
         return self.scale[:, None] * inv * self.scale[None, :]
 
 
