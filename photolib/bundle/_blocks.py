@@ -217,19 +217,20 @@ def normals(lay: Layout, v, A, Ap, pts) -> Normals:
     _check_point_blocks(Npp, lay.free)
     Ninv = np.linalg.inv(Npp)
     W = Apm.transpose(0, 2, 1) @ A[mo, :, :6]  # (Nm, 3, 6)
-    Y = Ninv[lay.ps] @ W
+    Y = np.take(Ninv, lay.ps, axis=0) @ W
+    Wt = np.ascontiguousarray(W.transpose(0, 2, 1))
     E = np.concatenate([S[:, :, 9:9 + k], np.zeros((len(lay.free), 3, d))], axis=2)
     if d:
         E[:, :, k:] = _inner_constraints(pts).reshape(lay.P, 3, 7)[lay.free]
     Z, t = Ninv @ E, (Ninv @ bp[:, :, None])[:, :, 0]
     Kc = np.zeros((len(lay.pair_a), 6, 6))
     for c in _chunks(len(lay.q1)):
-        prod = W[lay.q1[c]].transpose(0, 2, 1) @ Y[lay.q2[c]]
+        prod = np.take(Wt, lay.q1[c], axis=0) @ np.take(Y, lay.q2[c], axis=0)
         Kc -= _group_sum(lay.by_pair[:, c], prod)
     Kc[lay.diag_pair] += U[:, :6, :6]
     Kg = np.zeros((M, 6, e))
     Kg[:, :, :k] = U[:, :6, 6:6 + k]
-    Kg -= _group_sum(lay.by_cam_free, W.transpose(0, 2, 1) @ Z[lay.ps])
+    Kg -= _group_sum(lay.by_cam_free, Wt @ np.take(Z, lay.ps, axis=0))
     Kgg = np.zeros((e, e))
     Kgg[:k, :k] = U[:, 6:6 + k, 6:6 + k].sum(axis=0)
     Kgg -= np.einsum("pia,pib->ab", E, Z)
@@ -377,23 +378,24 @@ def covariances(lay: Layout, nrm: Normals, Kinv, A, Ap, j) -> Covariances:
     Kb = Kinv[6 * lay.pair_a[:, None, None] + r6[:, None], 6 * lay.pair_b[:, None, None] + r6]
     Kcg = Kinv[:6 * M, 6 * M:].reshape(M, 6, lay.e)
     Kgg = Kinv[6 * M:, 6 * M:]
-    Yt = nrm.Y.transpose(0, 2, 1)  # (Nm, 6, 3)
-    C = -(Kcg[lay.jm] @ nrm.Z[lay.ps].transpose(0, 2, 1))
+    Yt = np.ascontiguousarray(nrm.Y.transpose(0, 2, 1))  # (Nm, 6, 3)
+    Kbt = np.ascontiguousarray(Kb.transpose(0, 2, 1))
+    Kcg_m = np.take(Kcg, lay.jm, axis=0)
+    C = -(Kcg_m @ np.take(nrm.Z, lay.ps, axis=0).transpose(0, 2, 1))
     for c in _chunks(len(lay.q1)):
-        B, q1, q2 = Kb[lay.pid[c]], lay.q1[c], lay.q2[c]
-        C -= _group_sum(lay.q1_target[:, c], B @ Yt[q2])
-        C -= _group_sum(lay.off_target[:, c], B.transpose(0, 2, 1) @ Yt[q1])
-    Qgp = -(_group_sum(lay.by_point, Kcg[lay.jm].transpose(0, 2, 1) @ Yt)
+        B, Bt = np.take(Kb, lay.pid[c], axis=0), np.take(Kbt, lay.pid[c], axis=0)
+        C -= _group_sum(lay.q1_target[:, c], B @ np.take(Yt, lay.q2[c], axis=0))
+        C -= _group_sum(lay.off_target[:, c], Bt @ np.take(Yt, lay.q1[c], axis=0))
+    Qgp = -(_group_sum(lay.by_point, Kcg_m.transpose(0, 2, 1) @ Yt)
             + Kgg @ nrm.Z.transpose(0, 2, 1))  # (Pf, e, 3)
     Qpp = nrm.Ninv - _group_sum(lay.by_point, nrm.Y @ C) - nrm.Z @ Qgp
     cols = lay.cols
     Qsub = Kinv[cols[:, :, None], cols[:, None, :]]  # (M, 6 + k, 6 + k)
-    qhat = np.einsum("nri,nij,nrj->nr", A, Qsub[j], A)
+    qhat = np.sum((A @ np.take(Qsub, j, axis=0)) * A, axis=2)
     mo = lay.mo
-    Qyp = np.concatenate([C, Qgp[lay.ps, :k]], axis=1)  # (Nm, 6 + k, 3)
+    Qyp = np.concatenate([C, np.take(Qgp[:, :k], lay.ps, axis=0)], axis=1)  # (Nm, 6 + k, 3)
     Am, Apm = A[mo], Ap[mo]
-    qhat[mo] += 2.0 * np.einsum("nri,nij,nrj->nr", Am, Qyp, Apm)
-    qhat[mo] += np.einsum("nri,nij,nrj->nr", Apm, Qpp[lay.ps], Apm)
+    qhat[mo] += np.sum((2.0 * (Am @ Qyp) + Apm @ np.take(Qpp, lay.ps, axis=0)) * Apm, axis=2)
     Qcam = Kinv[6 * np.arange(M)[:, None, None] + r6[:, None], 6 * np.arange(M)[:, None, None]
                 + r6]
     return Covariances(Qcam, Kinv[6 * M:6 * M + k, 6 * M:6 * M + k], Qpp, C, qhat)
