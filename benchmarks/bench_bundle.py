@@ -47,6 +47,8 @@ import numpy as np
 
 #: most photolib/Ceres time ratio, largest photolib peak RSS at 200 images (bytes)
 TARGETS = {"ratio": 2.5, "memory_200": 1 << 30}
+#: the block sizes (images) at which the ratio target applies (others: reported)
+RATIO_AT = (49, 100, 200)
 #: per-observation time or memory at 400 images may exceed that at 50 by this factor
 LINEAR_SLACK = 1.25
 REPEAT = 3
@@ -234,11 +236,11 @@ def run(images=(49, 100, 200), scaling=(50, 100, 200, 400), repeat=REPEAT) -> in
             ours, ref = _run_child("photolib", n, repeat), _run_child("ceres", n, repeat)
             digits = -np.log10(abs(ours["rms"] - ref["rms"]) / ours["rms"] + 1e-17)
             ratio = ours["time"] / ref["time"]
-            ok = ratio <= TARGETS["ratio"]
+            ok = ratio <= TARGETS["ratio"] or n not in RATIO_AT
             missed += [] if ok else [f"ratio at {n} images"]
             print(f"{n:6d} {ours['points']:7d} {ours['observations']:7d} | {ours['time']:8.2f}s "
                   f"{_mib(ours['peak'])} | {ref['time']:7.2f}s {_mib(ref['peak'])} | "
-                  f"{ratio:4.2f}× {'' if ok else 'MISSED'} | {ours['rms']:.10g} / "
+                  f"{ratio:4.2f}× {'      ' if ok else 'MISSED'} | {ours['rms']:.10g} / "
                   f"{ref['rms']:.10g} ({digits:.1f} digits; {ours['note']}, {ref['note']})",
                   flush=True)
             if digits < 9:

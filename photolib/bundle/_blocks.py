@@ -107,9 +107,9 @@ class Layout:
     by_image: object  # indicator (M × N)
     by_point: object  # indicator (Pf × Nm)
     by_cam_free: object  # indicator (M × Nm)
-    by_pair: object  # indicator (pairs × T)
-    q1_target: object  # indicator (Nm × T): q1 of every pair
-    off_target: object  # indicator (Nm × T): q2 of the off-diagonal pairs
+    by_pair: object  # indicator (pairs × T), CSC: sliced by chunks of pairs
+    q1_target: object  # indicator (Nm × T), CSC: q1 of every pair
+    off_target: object  # indicator (Nm × T), CSC: q2 of the off-diagonal pairs
     diag_pair: np.ndarray  # (M,) pid of (a, a)
 
     @property
@@ -172,9 +172,9 @@ def make_layout(j, i, M, pts, sig, weighted, calib, datum, sigma_image) -> Layou
         r=r, extent=float(np.max(np.ptp(pts, axis=0))) or 1.0, mo=mo, ps=ps, jm=jm, q1=q1,
         q2=q2, pid=pid, pair_a=ukeys // M, pair_b=ukeys % M,
         by_image=_indicator(j, M), by_point=_indicator(ps, len(free)),
-        by_cam_free=_indicator(jm, M), by_pair=_indicator(pid, len(ukeys)),
-        q1_target=_indicator(q1, len(mo)),
-        off_target=sps.csr_matrix((np.ones(len(off)), (q2[off], off)), shape=(len(mo), len(q1))),
+        by_cam_free=_indicator(jm, M), by_pair=_indicator(pid, len(ukeys)).tocsc(),
+        q1_target=_indicator(q1, len(mo)).tocsc(),
+        off_target=sps.csc_matrix((np.ones(len(off)), (q2[off], off)), shape=(len(mo), len(q1))),
         diag_pair=np.searchsorted(ukeys, np.arange(M) * (M + 1)))
 
 
@@ -341,17 +341,26 @@ class ReducedSystem:
         return self.scale * self._solve_s(self.scale * rhs)
 
     def inverse(self):
-        """The dense ``K⁻¹`` (ny × ny): Q_yy and the blocks the statistics need."""
+        """The dense ``K⁻¹`` (ny × ny): Q_yy and the blocks the statistics need. Always by
+        LAPACK (Cholesky and ``dpotri``, or LU for a free network), also after a sparse
+        solve: its blocked inverse costs less than ny sparse triangular solves."""
         ny = self.lay.ny
-        if self.kind == "cholesky":
-            inv, info = sla.lapack.dpotri(self.fac[0], lower=self.fac[1])
+        Ks = self.Ks.toarray() if self.sparse else self.Ks
+        fac = self.fac if self.kind == "cholesky" else None
+        if fac is None and self.lay.d == 0:
+            try:
+                fac = sla.cho_factor(Ks, check_finite=False)
+            except np.linalg.LinAlgError:
+                fac = None
+        if fac is not None:
+            inv, info = sla.lapack.dpotri(fac[0], lower=fac[1])
             if info:
                 raise DatumError(f"the reduced normal matrix could not be inverted (dpotri "
                                  f"info {info})")
-            inv = np.triu(inv) + np.triu(inv, 1).T if not self.fac[1] else \
-                np.tril(inv) + np.tril(inv, -1).T
+            inv = np.tril(inv) + np.tril(inv, -1).T if fac[1] else np.triu(inv) + np.triu(inv, 1).T
         else:
-            inv = self._solve_s(np.eye(ny))
+            lu = self.fac if self.kind == "lu" else sla.lu_factor(Ks, check_finite=False)
+            inv = sla.lu_solve(lu, np.eye(ny), check_finite=False)
             inv = 0.5 * (inv + inv.T)  # K is symmetric: LU leaves rounding asymmetry
         return self.scale[:, None] * inv * self.scale[None, :]
 
