@@ -14,8 +14,12 @@ all images (self-calibration / Selbstkalibrierung). Gauss–Markov model with eq
 ``N_pp`` is block diagonal (one 3×3 block per point), so the points are eliminated point by
 point (Schur complement, reduced normal equations) and back-substituted,
 ``dp_i = N_ii^{-1}(b_i − N_iy dy)``. N is accumulated in blocks (6×6 per image, 3×3 per
-point, 3×6 per observation, the k interior rows), O(N·(6 + k)²); each step solves the reduced
-system by LU, its inverse (the covariances) is formed once, after convergence. The datum
+point, 3×6 per observation, the k interior rows), O(N·(6 + k)²); the reduced camera system
+has 6×6 blocks only for the image pairs that share a new point and is solved by a dense
+Cholesky (LU for a free network) while it is small and by SciPy's sparse LU (SuperLU) when it
+is not; its inverse (the covariances) is formed once, after convergence, and the covariance
+blocks and redundancy numbers come from it and the block structure
+(:mod:`~photolib.bundle._blocks`), never from a matrix over all unknowns. The datum
 (Datum) is fixed by control points (Passpunkte, fixed coordinates) or, for a free network
 (freies Netz, *swobodna sieć*), by the seven inner constraints of a spatial similarity on the
 object points (minimum norm of their corrections, ``Bᵀ dp = 0``), added by Lagrange multipliers.
@@ -28,9 +32,11 @@ Then
 
 (d = 7 for a free network, 0 with control points). The distortion is evaluated at the
 measured point reduced to the principal point (CONVENTIONS), so the observation equation is
-``x' = x'0 − c·kx/N + Δx'(x'_obs − x'0)``. NumPy only.
+``x' = x'0 − c·kx/N + Δx'(x'_obs − x'0)``. NumPy and SciPy (linear algebra).
 
-Modules: :mod:`~photolib.bundle._adjustment` (the adjustment),
+Modules: :mod:`~photolib.bundle._adjustment` (the adjustment in named stages),
+:mod:`~photolib.bundle._blocks` (layout of the unknowns, normal equations by blocks, the
+reduced camera system, covariance blocks),
 :mod:`~photolib.bundle._result` (its result), :mod:`~photolib.bundle._inputs` (the checks of
 its arguments), :mod:`~photolib.bundle._datum` (inner constraints, datum and geometry
 checks), :mod:`~photolib.bundle._pattern` (the pattern of the normal matrix),

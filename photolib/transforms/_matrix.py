@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from photolib._linalg import svd_right
 from photolib._validate import as_scalar
 from photolib.transforms._base import (
     DegenerateGeometryError,
@@ -35,20 +34,6 @@ def _check_not_collinear(points, name, cls):
     if len(points) >= 3 and collinearity_ratio(points) < 1e-9:
         raise DegenerateGeometryError(
             f"{cls}: the {name} points are collinear; the transformation is not determined")
-
-
-def _check_minimal_projective(src, dst, cls):
-    """Four point pairs fix the 8 parameters only if no three of the four points, in src and
-    in dst, are collinear (else the linear solution sends a point to infinity, w = 0)."""
-    for pts, name in ((src, "src"), (dst, "dst")):
-        for skip in range(4):
-            tri = np.delete(pts, skip, axis=0)
-            if collinearity_ratio(tri) < 1e-9:
-                k = [n for n in range(4) if n != skip]
-                raise DegenerateGeometryError(
-                    f"{cls}: degenerate point geometry, three of the points collinear ({name} "
-                    f"points {k[0]}, {k[1]}, {k[2]}); with only four point pairs the 8 "
-                    "parameters are then not determined")
 
 
 def _solve(A, b, cls):
@@ -355,57 +340,45 @@ class ProjectiveTransform(_MatrixTransform):
 
     @classmethod
     def from_estimate(cls, src, dst, max_iter: int = 20) -> ProjectiveTransform:
-        """Least-squares estimate from ≥ 4 point pairs, no three of four collinear.
+        r"""Least-squares estimate from ≥ 4 point pairs, no three of four collinear.
 
-        The normalised linear (algebraic) solution by SVD starts a Gauss–Newton adjustment of
-        the observation equations 2.18 (residuals in dst), so with redundant points the
-        result minimises ``Σ|T(src) − dst|²``.
+        Both point sets are normalised (centroid 0, mean distance √2). Four pairs determine
+        H exactly: the 8 × 8 linear system with ``h33 = 1`` (the normalised src centroid is
+        finite) or, if that is singular, the null vector of the 8 × 9 DLT matrix. With more
+        pairs the normalised DLT (the smallest right singular vector of the 2N × 9 matrix,
+        from its 9 × 9 triangular factor R) starts a Gauss–Newton adjustment of the
+        observation equations 2.18 (residuals in dst, minimum-norm steps ``hᵀdh = 0``, the
+        9 × 9 normal equations), until ``‖dh‖ ≤ 1e-12·‖h‖`` or ``max_iter`` steps, so
+        the result minimises ``Σ|T(src) − dst|²``:
+
+        .. math:: X = \frac{h_1 x + h_2 y + h_3}{h_7 x + h_8 y + h_9},\quad
+                  Y = \frac{h_4 x + h_5 y + h_6}{h_7 x + h_8 y + h_9}
+
+        Raises :class:`DegenerateGeometryError` for collinear points (all of them, or three
+        of four, naming them) and for a solution that sends a point to infinity.
         """
         src, dst = check_pairs(src, dst, 4, cls.__name__)
-        _check_not_collinear(src, "src", cls.__name__)
-        _check_not_collinear(dst, "dst", cls.__name__)
-        if len(src) == 4:
-            _check_minimal_projective(src, dst, cls.__name__)
-        cs, ss = hartley_normalisation(src)
-        cd, sd = hartley_normalisation(dst)
+        name, n = cls.__name__, len(src)
+        _check_projective_geometry(src, dst, name)
+        (cs, cd), (ss, sd) = _normalisations(src, dst)
         u, U = ss * (src - cs), sd * (dst - cd)
-        n = len(u)
-        one, zero = np.ones(n), np.zeros(n)
         A = np.zeros((2 * n, 9))
-        A[0::2] = np.column_stack([u, one, zero, zero, zero, -U[:, :1] * u, -U[:, 0]])
-        A[1::2] = np.column_stack([zero, zero, zero, u, one, -U[:, 1:] * u, -U[:, 1]])
-        sv, Vt = svd_right(A)
-        if sv[7] <= RANK_TOL * sv[0]:
-            raise DegenerateGeometryError(
-                f"{cls.__name__}: degenerate point geometry (three of the points collinear?); "
-                "the 8 parameters are not determined")
-        h = Vt[-1]
-        H = h.reshape(3, 3)
-        w = u @ H[2, :2] + H[2, 2]
-        at_infinity = ~(np.abs(w) > 1e-12 * (np.abs(u) @ np.abs(H[2, :2]) + abs(H[2, 2])))
-        if at_infinity.any():
-            k = int(np.flatnonzero(at_infinity)[0])
-            raise DegenerateGeometryError(
-                f"{cls.__name__}: the linear solution maps src point {k} {src[k].tolist()} to "
-                "infinity (denominator w = 0): the point geometry is degenerate (e.g. three "
-                "points collinear in src but not in dst, or the other way round)")
-        for _ in range(max_iter):  # Gauss–Newton on the geometric residuals, minimum-norm steps
-            H = h.reshape(3, 3)
-            w = u @ H[2, :2] + H[2, 2]
-            XY = (u @ H[:2, :2].T + H[:2, 2]) / w[:, None]
-            J = np.zeros((2 * n, 9))
-            J[0::2] = np.column_stack([u, one, zero, zero, zero, -XY[:, :1] * u, -XY[:, 0]])
-            J[1::2] = np.column_stack([zero, zero, zero, u, one, -XY[:, 1:] * u, -XY[:, 1]])
-            J /= np.repeat(w, 2)[:, None]
-            if not (np.all(np.isfinite(J)) and np.all(np.isfinite(XY))):
+        A[0::2, 0:2], A[0::2, 2] = u, 1.0
+        A[1::2, 3:5], A[1::2, 5] = u, 1.0
+        A[0::2, 6:8], A[0::2, 8] = -U[:, :1] * u, -U[:, 0]
+        A[1::2, 6:8], A[1::2, 8] = -U[:, 1:] * u, -U[:, 1]
+        if n == 4:
+            h = _minimal_homography(A, name)
+        else:
+            sv, Vt = np.linalg.svd(np.linalg.qr(A, mode="r"))[1:]
+            if sv[7] <= RANK_TOL * sv[0]:
                 raise DegenerateGeometryError(
-                    f"{cls.__name__}: the adjustment sends a src point to infinity (w = 0); the "
-                    "point geometry does not determine a projective transformation")
-            dh = np.linalg.lstsq(J, -(XY - U).reshape(-1), rcond=None)[0]
-            h = h + dh
-            h /= np.linalg.norm(h)
-            if np.linalg.norm(dh) < 1e-14:
-                break
+                    f"{name}: degenerate point geometry (three of the points collinear?); "
+                    "the 8 parameters are not determined")
+            h = Vt[-1]
+        _check_finite_images(h, u, src, name)
+        if n > 4:
+            h = _gauss_newton_homography(h, u, U, max_iter, name)
         H = np.linalg.inv(_norm_matrix(cd, sd)) @ h.reshape(3, 3) @ _norm_matrix(cs, ss)
         out = cls._from_matrix(H)
         if out is None:
@@ -414,3 +387,105 @@ class ProjectiveTransform(_MatrixTransform):
                 "Luhmann 2.18 (denominator 1 + c1·x + c2·y) cannot express; shift the src origin")
         out._set_fit(src, dst)
         return out
+
+
+def _collinearity_ratios(P):
+    """σ_min/σ_max of the centred point sets ``P`` (..., n, 2), in closed form from the
+    2 × 2 scatter matrix: ``λ = (tr ± √(tr² − 4 det))/2``, ratio ``√(λ_min/λ_max)``."""
+    Q = P - P.mean(axis=-2, keepdims=True)
+    x, y = Q[..., 0], Q[..., 1]
+    a, b, c = (x * x).sum(axis=-1), (x * y).sum(axis=-1), (y * y).sum(axis=-1)
+    tr, det = a + c, np.maximum(a * c - b * b, 0.0)
+    big = 0.5 * (tr + np.sqrt(np.maximum(tr * tr - 4.0 * det, 0.0)))
+    return np.sqrt(det / np.where(big > 0, big, np.inf) ** 2)
+
+
+_TRIPLES = np.array([[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]])
+
+
+def _check_projective_geometry(src, dst, name):
+    """One pass over both point sets: all points collinear, or (four pairs) three of them,
+    by the ratio of :func:`~photolib.transforms._base.collinearity_ratio` (< 1e-9)."""
+    both = np.stack([src, dst])
+    whole = _collinearity_ratios(both)
+    for q, which in enumerate(("src", "dst")):
+        if whole[q] < 1e-9:
+            raise DegenerateGeometryError(
+                f"{name}: the {which} points are collinear; the transformation is not determined")
+    if len(src) == 4:
+        bad = np.argwhere(_collinearity_ratios(both[:, _TRIPLES]) < 1e-9)
+        if len(bad):
+            k = _TRIPLES[bad[0, 1]].tolist()
+            raise DegenerateGeometryError(
+                f"{name}: degenerate point geometry, three of the points collinear "
+                f"({('src', 'dst')[bad[0, 0]]} points {k[0]}, {k[1]}, {k[2]}); with only four "
+                "point pairs the 8 parameters are then not determined")
+
+
+def _normalisations(src, dst):
+    """:func:`~photolib.transforms._base.hartley_normalisation` of both sets at once:
+    centroids (2, 2) and scales (2,) with ``s·(p − centroid)`` at mean distance √2."""
+    both = np.stack([src, dst])
+    cen = both.mean(axis=1)
+    dist = np.sqrt(((both - cen[:, None]) ** 2).sum(axis=2)).mean(axis=1)
+    ref = np.maximum(1.0, np.abs(both).max(axis=(1, 2)))
+    if np.any(dist <= 1e-12 * ref):
+        raise DegenerateGeometryError("all points coincide; no transformation is determined")
+    return cen, np.sqrt(2.0) / dist
+
+
+def _minimal_homography(A, name):
+    """The exact h (9,) of four normalised pairs: ``A[:, :8] h' = −A[:, 8]`` with h33 = 1,
+    else the null vector of the 8 × 9 A."""
+    try:
+        h = np.append(np.linalg.solve(A[:, :8], -A[:, 8]), 1.0)
+        if np.all(np.isfinite(h)) and np.abs(h).max() < 1e8:
+            return h / np.linalg.norm(h)
+    except np.linalg.LinAlgError:
+        pass
+    sv, Vt = np.linalg.svd(np.vstack([A, np.zeros((1, 9))]))[1:]
+    if sv[7] <= RANK_TOL * sv[0]:
+        raise DegenerateGeometryError(
+            f"{name}: degenerate point geometry (three of the points collinear?); "
+            "the 8 parameters are not determined")
+    return Vt[-1]
+
+
+def _check_finite_images(h, u, src, name):
+    """``DegenerateGeometryError`` naming the first src point that h maps to infinity."""
+    w = u @ h[6:8] + h[8]
+    at_infinity = ~(np.abs(w) > 1e-12 * (np.abs(u) @ np.abs(h[6:8]) + abs(h[8])))
+    if at_infinity.any():
+        k = int(np.flatnonzero(at_infinity)[0])
+        raise DegenerateGeometryError(
+            f"{name}: the linear solution maps src point {k} {src[k].tolist()} to "
+            "infinity (denominator w = 0): the point geometry is degenerate (e.g. three "
+            "points collinear in src but not in dst, or the other way round)")
+
+
+def _gauss_newton_homography(h, u, U, max_iter, name):
+    """Gauss–Newton on the geometric residuals ``T_h(u) − U`` (normalised units): the
+    normal equations ``JᵀJ dh = −Jᵀr`` bordered by ``hᵀdh = 0`` (10 × 10), h kept at norm 1."""
+    n = len(u)
+    J = np.empty((2 * n, 9))
+    K = np.zeros((10, 10))
+    for _ in range(max_iter):
+        w = u @ h[6:8] + h[8]
+        XY = (u @ h.reshape(3, 3)[:2, :2].T + h[[2, 5]]) / w[:, None]
+        iw = 1.0 / w[:, None]
+        J[0::2, 0:2], J[0::2, 2:3], J[0::2, 3:6] = u * iw, iw, 0.0
+        J[1::2, 0:3], J[1::2, 3:5], J[1::2, 5:6] = 0.0, u * iw, iw
+        J[0::2, 6:8], J[0::2, 8:9] = -XY[:, :1] * u * iw, -XY[:, :1] * iw
+        J[1::2, 6:8], J[1::2, 8:9] = -XY[:, 1:] * u * iw, -XY[:, 1:] * iw
+        if not (np.all(np.isfinite(J)) and np.all(np.isfinite(XY))):
+            raise DegenerateGeometryError(
+                f"{name}: the adjustment sends a src point to infinity (w = 0); the "
+                "point geometry does not determine a projective transformation")
+        K[:9, :9] = J.T @ J
+        K[:9, 9] = K[9, :9] = h
+        dh = np.linalg.solve(K, np.r_[-(J.T @ (XY - U).reshape(-1)), 0.0])[:9]
+        h = h + dh
+        h /= np.linalg.norm(h)
+        if np.linalg.norm(dh) <= 1e-12:
+            break
+    return h

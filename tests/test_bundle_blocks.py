@@ -1,0 +1,166 @@
+"""The block statistics of photolib.bundle against the dense computation, and the structure.
+
+At the adjusted block the full design matrix over all unknowns (images, interior parameters,
+unknown point coordinates; the control observations as rows with their weights) is formed
+here densely, the normal matrix (bordered by the inner constraints for a free network)
+inverted with NumPy, and σ0, every covariance block, the redundancy numbers of the image and
+control observations and the w-test values compared to 1e-10 with the result of
+``bundle_adjustment``, whose statistics come from the Schur structure only. The sparse
+solver of the reduced system (forced by ``DENSE_LIMIT = 0``) must give the same numbers.
+The self-calibration case estimates x0, y0 and A1 but not c: over 30 m of relief from 500 m,
+c and Z0 are correlated so closely that any two float64 inverses of N (this dense one
+included) agree only to about 1e-9.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from photolib import bundle as bd
+from photolib.bundle import _blocks
+from photolib.bundle._adjustment import _prepare, linearise
+from photolib.bundle._blocks import make_layout
+from tests.test_bundle import C, _block, _corners, _start
+
+TOL = 1e-10
+
+
+def _dense(res, xy, ji, pi, ext0, P0, control=None, control_sigma=None, sigma_image=None,
+           calibrate=(), datum="control"):
+    """σ0², Q_xx over (images, interior, unknown point coordinates), Q_vv diagonals, from the
+    full dense design matrix at the result (the Jacobian blocks of ``linearise``)."""
+    prob = _prepare(xy, ji, pi, ext0, P0, C, 0.0, 0.0, None, control, datum, control_sigma,
+                    sigma_image, calibrate, 1e-10, 30)
+    lay = make_layout(prob.j, prob.i, len(prob.ext), prob.pts, prob.sig, prob.weighted,
+                      prob.calib, prob.datum, prob.sigma_image)
+    interior = dict(prob.interior) | res.interior()
+    v, A, Ap = linearise(prob, lay, res.exterior, res.points, interior)
+    M, P, k, n = len(res.exterior), len(res.points), len(prob.calib), len(xy)
+    unknown = np.argwhere(prob.sig != 0)  # (point, coordinate) with an unknown
+    unknown = unknown[np.isin(unknown[:, 0], lay.free)]
+    col = {(int(p), int(e)): 6 * M + k + q for q, (p, e) in enumerate(unknown)}
+    u = 6 * M + k + len(unknown)
+    weighted = np.argwhere(prob.weighted & np.isin(np.arange(P), lay.free)[:, None])
+    Afull = np.zeros((2 * n + len(weighted), u))
+    for o in range(n):
+        Afull[2 * o:2 * o + 2, 6 * ji[o]:6 * ji[o] + 6] = A[o, :, :6]
+        Afull[2 * o:2 * o + 2, 6 * M:6 * M + k] = A[o, :, 6:]
+        for e in range(3):
+            if (pi[o], e) in col:
+                Afull[2 * o:2 * o + 2, col[(pi[o], e)]] = Ap[o, :, e]
+    p_c = (prob.sigma_image / prob.sig[weighted[:, 0], weighted[:, 1]]) ** 2 \
+        if len(weighted) else np.zeros(0)
+    v_c = res.points[weighted[:, 0], weighted[:, 1]] - P0[weighted[:, 0], weighted[:, 1]]
+    for q, (p, e) in enumerate(weighted):
+        Afull[2 * n + q, col[(int(p), int(e))]] = 1.0
+    Pw = np.r_[np.ones(2 * n), p_c]
+    N = Afull.T @ (Pw[:, None] * Afull)
+    d = 0
+    if datum == "free":
+        B = bd.inner_constraints(res.points)
+        G = np.zeros((u, 7))
+        G[6 * M + k:] = B
+        N = np.block([[N, G], [G.T, np.zeros((7, 7))]])
+        d = 7
+    # Jacobi-scaled before the inverse: self-calibration makes N ill-conditioned (c with Z0)
+    D = 1.0 / np.sqrt(np.where(np.abs(np.diag(N)) > 0, np.abs(np.diag(N)), 1.0))
+    Q = (D[:, None] * np.linalg.inv(D[:, None] * N * D[None, :]) * D[None, :])[:u, :u]
+    r = len(Pw) - u + d
+    s2 = (v.ravel() @ v.ravel() + p_c @ v_c**2) / r
+    rn = 1.0 - np.einsum("ij,jk,ik->i", Afull, Q, Afull) * Pw
+    return dict(s2=s2, Q=Q, M=M, k=k, col=col, rn=rn[:2 * n].reshape(n, 2),
+                crn=(weighted, rn[2 * n:]), v=v, r=r)
+
+
+def _compare(res, dense):
+    s2, Q, M, k, col = dense["s2"], dense["Q"], dense["M"], dense["k"], dense["col"]
+    assert res.redundancy == dense["r"]
+    assert abs(res.sigma0**2 - s2) <= TOL * s2
+    for a in range(M):
+        ref = s2 * Q[6 * a:6 * a + 6, 6 * a:6 * a + 6]
+        np.testing.assert_allclose(res.exterior_covariance[a], ref, rtol=0,
+                                   atol=TOL * np.abs(ref).max())
+    if k:
+        ref = s2 * Q[6 * M:6 * M + k, 6 * M:6 * M + k]
+        np.testing.assert_allclose(res.interior_covariance, ref, rtol=0,
+                                   atol=TOL * np.abs(ref).max())
+    pcov = np.zeros_like(res.point_covariance)
+    for (p, e), c in col.items():
+        for (p2, e2), c2 in col.items():
+            if p2 == p:
+                pcov[p, e, e2] = s2 * Q[c, c2]
+    fixed_or_control = [p for p in range(len(pcov)) if not np.any(pcov[p])]
+    pcov[fixed_or_control] = res.point_covariance[fixed_or_control]  # not adjusted: as given
+    np.testing.assert_allclose(res.point_covariance, pcov, rtol=0,
+                               atol=TOL * np.abs(pcov).max())
+    np.testing.assert_allclose(res.redundancy_numbers, dense["rn"], rtol=0, atol=TOL)
+    np.testing.assert_allclose(res.qvv, dense["rn"], rtol=0, atol=TOL)
+    weighted, crn = dense["crn"]
+    if len(weighted):
+        np.testing.assert_allclose(res.control_redundancy_numbers[weighted[:, 0], weighted[:, 1]],
+                                   crn, rtol=0, atol=TOL)
+    total = res.redundancy_numbers.sum() + (res.control_redundancy_numbers.sum()
+                                            if res.control_redundancy_numbers is not None else 0)
+    assert abs(total - res.redundancy) < 1e-8
+    sigma = 0.003
+    w = bd.data_snooping(res, sigma=sigma).statistic
+    w_ref = dense["v"] / (sigma * np.sqrt(dense["rn"]))
+    np.testing.assert_allclose(w, w_ref, rtol=1e-9, atol=0)
+
+
+def _cases():
+    xy, ji, pi, ext, P = _block(strips=2, per=3, A1=2e-6)
+    control = _corners(P)
+    ext0, P0 = _start(ext, P, control)
+    sig = np.full((len(P), 3), np.inf)
+    sig[control[:2]] = 0.0
+    sig[control[2:]] = 0.05
+    sig[7] = (np.inf, np.inf, 0.0)   # a height control point: a partially fixed point
+    sig[11] = (0.02, 0.02, np.inf)   # a plan point observed in X, Y
+    return {
+        "control": (xy, ji, pi, ext0, P0, dict(control=control)),
+        "self-calibration, weighted and partial control": (
+            xy, ji, pi, ext0, P0, dict(control_sigma=sig, sigma_image=0.003,
+                                       calibrate=("x0", "y0", "A1"))),
+        "free network": (xy, ji, pi, ext0, P0, dict(datum="free")),
+    }
+
+
+CASES = _cases()
+
+
+@pytest.mark.parametrize("case", list(CASES))
+@pytest.mark.parametrize("limit", [_blocks.DENSE_LIMIT, 0], ids=["dense", "sparse"])
+def test_statistics_agree_with_the_dense_inverse_of_the_full_normal_matrix(case, limit,
+                                                                           monkeypatch):
+    monkeypatch.setattr(_blocks, "DENSE_LIMIT", limit)
+    xy, ji, pi, ext0, P0, kw = CASES[case]
+    res = bd.bundle_adjustment(xy, ji, pi, ext0, P0, C, **kw)
+    assert res.converged
+    _compare(res, _dense(res, xy, ji, pi, ext0, P0, **kw))
+
+
+def test_sparse_and_dense_reduced_solvers_give_the_same_adjustment(monkeypatch):
+    xy, ji, pi, ext0, P0, kw = CASES["self-calibration, weighted and partial control"]
+    dense = bd.bundle_adjustment(xy, ji, pi, ext0, P0, C, **kw)
+    monkeypatch.setattr(_blocks, "DENSE_LIMIT", 0)
+    sparse = bd.bundle_adjustment(xy, ji, pi, ext0, P0, C, **kw)
+    np.testing.assert_allclose(sparse.exterior, dense.exterior, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(sparse.points, dense.points, rtol=0, atol=1e-9)
+    assert sparse.iterations == dense.iterations
+
+
+def test_pairs_of_the_layout_cover_every_two_rays_of_a_point_once():
+    xy, ji, pi, ext0, P0, kw = CASES["control"]
+    prob = _prepare(xy, ji, pi, ext0, P0, C, 0.0, 0.0, None, kw["control"], "control", None,
+                    None, (), 1e-10, 30)
+    lay = make_layout(prob.j, prob.i, len(prob.ext), prob.pts, prob.sig, prob.weighted,
+                      prob.calib, prob.datum, prob.sigma_image)
+    rays = np.bincount(lay.ps, minlength=len(lay.free))
+    assert len(lay.q1) == int(np.sum(rays * (rays + 1) // 2))
+    assert np.all(lay.ps[lay.q1] == lay.ps[lay.q2]) and np.all(lay.q1 <= lay.q2)
+    a, b = lay.jm[lay.q1], lay.jm[lay.q2]
+    assert np.all(lay.pair_a[lay.pid] == a) and np.all(lay.pair_b[lay.pid] == b)
+    assert np.all(lay.pair_a[lay.diag_pair] == np.arange(lay.M))
+    assert np.all(lay.pair_b[lay.diag_pair] == np.arange(lay.M))
