@@ -127,6 +127,17 @@ def test_no_control_label_is_truncated(cls):
         assert width >= need, f"{cls.__name__}.{name}: {text!r} needs {need:.0f} px, has {width:g}"
 
 
+def test_toggle_buttons_fit_their_names():
+    from photolib.nb import plane
+
+    e = plane.RectificationExplorer()
+    buttons = e.controls["model"]
+    width = _px(buttons.style.button_width)
+    for name in buttons.options:
+        # a button's text has 2 × 8 px of padding beside it
+        assert width >= _text_width_px(name) + 16.0, (name, buttons.style.button_width)
+
+
 # -- the figure: measured with matplotlib's renderer -------------------------------------------
 
 @pytest.mark.parametrize("cls", EXPLORERS, ids=IDS)

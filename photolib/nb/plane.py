@@ -11,7 +11,7 @@ from __future__ import annotations
 import ipywidgets as widgets
 import numpy as np
 
-from photolib.nb.live import Explorer, LiveFigure, finished, slider
+from photolib.nb.live import Explorer, LiveFigure, finished, label_width, slider
 from photolib.nb.text import matrix_html
 from photolib.rectify import rectify_image
 from photolib.transforms import (
@@ -345,8 +345,10 @@ class RectificationExplorer(Explorer):
         self.controls = {
             "dcol": slider("Δcol [px]", dcol, -10, 10, 0.5),
             "drow": slider("Δrow [px]", drow, -10, 10, 0.5),
-            "model": widgets.ToggleButtons(options=list(MODELS), value=model,
-                                           style={"button_width": "80px"}),
+            # wide enough for the longest name ("projective" was cut at 80 px)
+            "model": widgets.ToggleButtons(
+                options=list(MODELS), value=model,
+                style={"button_width": f"{max(label_width(m, 80) for m in MODELS) + 10}px"}),
         }
         self.live = LiveFigure((7.0, 2.9))
         ax, ax2 = self.live.figure.subplots(1, 2)

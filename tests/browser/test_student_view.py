@@ -10,19 +10,23 @@ Screenshots go to ``test-artifacts/screenshots/`` (gitignored).
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from .test_lab import CHAPTERS, _KERNEL, _PROGRESS
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow, pytest.mark.timeout(600)]
 
-EXERCISES = ["04-rotations"]
+#: one student copy per chapter (each runs in a minute or less)
+_EXERCISE_DIR = Path(__file__).resolve().parents[2] / "exercises"
+EXERCISES = [c for c in CHAPTERS if (_EXERCISE_DIR / f"{c}.ipynb").exists()]
 
 #: a line break inside a number: the characters before and after the break, per output area.
 #: Each character's box comes from a Range over it (getClientRects); a new line starts where
 #: a box's top moves down. A break at white space is a break between words, not in a number.
 _SPLIT_NUMBERS = r"""() => {
-    const numeric = /[0-9]/, joins = /[0-9.,\u2212\u00b7eE+\-]/;
+    const numeric = /[0-9]/, joins = /[0-9.,\u2212+\-]/;   // digits, decimal point, sign
     const found = [];
     for (const out of document.querySelectorAll('.jp-OutputArea-output')) {
         const walker = document.createTreeWalker(out, NodeFilter.SHOW_TEXT);
