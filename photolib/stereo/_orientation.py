@@ -150,19 +150,9 @@ def relative_orientation(xy1, xy2, c, bx: float = 1.0, x0=0.0, y0=0.0, initial=N
     >>> np.round(ro.params, 9).tolist(), ro.converged
     ([0.1, -0.05, 0.01, -0.02, 0.03], True)
     """
-    a, b2 = as_point_pairs(xy1, xy2, (2, 2), ("xy1", "xy2"), 5, "relative orientation",
-                           "point pairs (5 unknowns: by, bz, ω2, φ2, κ2)")
-    c = as_scalar(c, "c", positive=True)
-    bx = as_scalar(bx, "bx")
-    if bx == 0:
-        raise ValueError("bx must be ≠ 0: it fixes the scale of the model")
-    x0, y0 = as_scalar(x0, "x0"), as_scalar(y0, "y0")
-    tol, max_iter = as_tolerance(tol), as_max_iter(max_iter)
-    q = np.zeros(5) if initial is None else as_float_array(initial, "initial")
-    if q.shape != (5,) or not np.all(np.isfinite(q)):
-        raise ValueError(f"initial must be 5 finite values (by, bz, ω2, φ2, κ2), got {q.tolist()}")
-    r1 = _image_vectors(a, c, x0, y0)
-    x2 = _image_vectors(b2, c, x0, y0)
+    a, b2, c, bx, x0, y0, tol, max_iter, q, r1, x2 = _pair_inputs(
+        xy1, xy2, c, bx, x0, y0, initial, tol, max_iter, "relative orientation",
+        "by, bz, ω2, φ2, κ2")
 
     def rays(q):
         return r1, x2 @ rotation_opk(*q[2:]).T
@@ -179,6 +169,23 @@ def relative_orientation(xy1, xy2, c, bx: float = 1.0, x0=0.0, y0=0.0, initial=N
                                kappa=float(q[4]), model=model, residuals=f,
                                sigma0=sigma0, covariance=cov, iterations=it,
                                converged=converged, redundancy=red)
+
+
+def _pair_inputs(xy1, xy2, c, bx, x0, y0, initial, tol, max_iter, name, unknowns):
+    """Checked arguments of a relative orientation and the image vectors of both images."""
+    a, b2 = as_point_pairs(xy1, xy2, (2, 2), ("xy1", "xy2"), 5, name,
+                           f"point pairs (5 unknowns: {unknowns})")
+    c = as_scalar(c, "c", positive=True)
+    bx = as_scalar(bx, "bx")
+    if bx == 0:
+        raise ValueError("bx must be ≠ 0: it fixes the scale of the model")
+    x0, y0 = as_scalar(x0, "x0"), as_scalar(y0, "y0")
+    tol, max_iter = as_tolerance(tol), as_max_iter(max_iter)
+    q = np.zeros(5) if initial is None else as_float_array(initial, "initial")
+    if q.shape != (5,) or not np.all(np.isfinite(q)):
+        raise ValueError(f"initial must be 5 finite values ({unknowns}), got {q.tolist()}")
+    return (a, b2, c, bx, x0, y0, tol, max_iter, q, _image_vectors(a, c, x0, y0),
+            _image_vectors(b2, c, x0, y0))
 
 
 def _coplanarity_gauss_newton(residuals, rays, q, tol, max_iter, check, *, shifts, scale,
@@ -353,20 +360,9 @@ def independent_relative_orientation(xy1, xy2, c, bx: float = 1.0, x0=0.0, y0=0.
     >>> np.round(ro.params, 9).tolist(), ro.converged
     ([0.02, -0.01, 0.01, -0.02, 0.03], True)
     """
-    a, b2 = as_point_pairs(xy1, xy2, (2, 2), ("xy1", "xy2"), 5,
-                           "independent relative orientation",
-                           "point pairs (5 unknowns: φ1, κ1, ω2, φ2, κ2)")
-    c = as_scalar(c, "c", positive=True)
-    bx = as_scalar(bx, "bx")
-    if bx == 0:
-        raise ValueError("bx must be ≠ 0: it fixes the scale of the model")
-    x0, y0 = as_scalar(x0, "x0"), as_scalar(y0, "y0")
-    tol, max_iter = as_tolerance(tol), as_max_iter(max_iter)
-    q = np.zeros(5) if initial is None else as_float_array(initial, "initial")
-    if q.shape != (5,) or not np.all(np.isfinite(q)):
-        raise ValueError(f"initial must be 5 finite values (φ1, κ1, ω2, φ2, κ2), got {q.tolist()}")
-    x1 = _image_vectors(a, c, x0, y0)
-    x2 = _image_vectors(b2, c, x0, y0)
+    a, b2, c, bx, x0, y0, tol, max_iter, q, x1, x2 = _pair_inputs(
+        xy1, xy2, c, bx, x0, y0, initial, tol, max_iter, "independent relative orientation",
+        "φ1, κ1, ω2, φ2, κ2")
 
     def rays(q):
         return x1 @ rotation_opk(0.0, *q[:2]).T, x2 @ rotation_opk(*q[2:]).T
