@@ -109,7 +109,8 @@ depth_of_field = Exercise(
 
 # -- 3. Airy radius (number) ----------------------------------------------------------------------
 def _airy_params(rng):
-    return {"wavelength_nm": float(rng.choice([450.0, 500.0, 550.0, 600.0, 650.0])),
+    # visible light 400 … 700 nm in 10 nm steps: 31 wavelengths × 9 stops
+    return {"wavelength_nm": float(10 * rng.integers(40, 71)),
             "k": float(rng.choice(_STOPS))}
 
 

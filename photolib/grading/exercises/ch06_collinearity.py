@@ -101,7 +101,10 @@ _WRT = ("X0", "Y0", "Z0", "X", "Y", "Z")
 
 
 def _partial_params(rng):
-    return {"coordinate": str(rng.choice(["x", "y"])), "wrt": str(rng.choice(_WRT))}
+    # the principal distance of the camera as a whole number of mm (close range to aerial):
+    # 2 coordinates × 6 unknowns × 146 cameras
+    return {"coordinate": str(rng.choice(["x", "y"])), "wrt": str(rng.choice(_WRT)),
+            "c_mm": int(rng.integers(8, 154))}
 
 
 def _partial(p, transpose=False, c_sign=1, numerator_only=False):
@@ -116,7 +119,8 @@ def _partial(p, transpose=False, c_sign=1, numerator_only=False):
         value = (xs if p["coordinate"] == "x" else ys).diff(t)
     if c_sign < 0:
         value = value.xreplace({dc.c: -dc.c})
-    return value
+    import sympy as sp
+    return value.xreplace({dc.c: sp.Integer(p["c_mm"])})
 
 
 partial_derivative = Exercise(
@@ -128,7 +132,8 @@ partial_derivative = Exercise(
     statement="Derive with SymPy ∂{coordinate}'/∂{wrt} of the collinearity equations "
               "x' = x0 − c·kx/N, y' = y0 − c·ky/N with (kx, ky, N) = Rᵀ·(X − X0, Y − Y0, Z − Z0), "
               "for a general rotation matrix R = [[r11, r12, r13], [r21, r22, r23], "
-              "[r31, r32, r33]]. Use the symbols r11 … r33, X, Y, Z, X0, Y0, Z0, c, x0, y0.",
+              "[r31, r32, r33]]. The camera has the principal distance c = {c_mm} mm: substitute "
+              "it. Use the symbols r11 … r33, X, Y, Z, X0, Y0, Z0, x0, y0.",
     parameters=_partial_params, reference=_partial,
     mistakes=(
         Mistake("sign-c", hints.MESSAGES["sign-c"] + "; and note ∂/∂X0 = −∂/∂X",

@@ -216,6 +216,10 @@ def _contribution_cases(rng, p):
 normal_contribution = Exercise(
     params_name="p_con",
     id="bun.normal-contribution", points=3, kind="function", answer="contribution",
+    # σ0 = 1 mm is the course's convention (the chapter's tests sum N = AᵀPA with p = 1/σ²
+    # and recognise σ in µm as 1000·σ): the function is the same for every student
+    few_variants="a function of its arguments alone (σ0 = 1 mm for all): one answer, "
+                 "tested on rows drawn per student",
     title="One observation in the normal equations / Beitrag zur Normalgleichungsmatrix",
     statement="An image coordinate with standard deviation σ (mm, a priori; σ0 = 1 mm) has "
               "the row a of the design matrix A ({u} unknowns here, typically "

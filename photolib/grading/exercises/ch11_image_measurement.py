@@ -299,7 +299,8 @@ lsm_row = Exercise(
 
 # -- 6. centre of a general conic (expression) ----------------------------------------------------
 def _conic_centre_params(rng):
-    return {"b": int(rng.integers(1, 10)) * int(rng.choice([-1, 1])),
+    # a nonzero whole xy coefficient |b| ≤ 30, either sign: 120 variants with the coordinate
+    return {"b": int(rng.integers(1, 31)) * int(rng.choice([-1, 1])),
             "coordinate": str(rng.choice(["x_c", "y_c"]))}
 
 
