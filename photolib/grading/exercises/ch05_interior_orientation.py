@@ -68,8 +68,8 @@ field_angle = Exercise(
     params_name="p_field",
     id="io.field-angle", points=2, kind="number", answer="tau_deg",
     title="Half format angle (halber Formatwinkel / Bildwinkel)",
-    statement="A close-range camera has a sensor of {W} × {H} pixels of {pixel_um} µm "
-              "(Pixelgröße) and the camera constant c = {c_mm} mm (Kamerakonstante); the "
+    statement="A close-range camera has a sensor of {W} × {H} pixels of {pixel_um:.2f} µm "
+              "(Pixelgröße) and the camera constant c = {c_mm:.3f} mm (Kamerakonstante); the "
               "principal point (Bildhauptpunkt) is at the centre of the format. Compute the "
               "angle τ between the optical axis and the ray to a corner of the image format, "
               "i.e. half the format angle over the diagonal (halber Formatwinkel or "

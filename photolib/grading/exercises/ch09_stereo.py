@@ -95,7 +95,7 @@ sigma_z = Exercise(
     title="Accuracy of a stereo pair / Genauigkeit im Normalfall (example 3.7)",
     statement="A close-range stereo pair in the normal case: c = {c_mm} mm, object distance "
               "h = {h_m} m, base B = {B_m} m. The image coordinates x'1 and x'2 are measured "
-              "independently, each with σ_x' = {s_x_um} µm. Give the standard deviation σ_Z of "
+              "independently, each with σ_x' = {s_x_um:.2f} µm. Give the standard deviation σ_Z of "
               "the depth in mm.",
     parameters=_sigma_params, reference=_sigma_z, tolerance=PRINTED, rtol=1e-6, atol=1e-9,
     mistakes=(
