@@ -29,7 +29,6 @@ VARIANTS = tuple(f"tol{i:04d}" for i in range(24))
 #: strict, so a fix shows up as an unexpected pass
 KNOWN_CONFLICTS = {
     "io.image-vector", "io.measured-position", "plane.projective-point",
-    "plane.bilinear-function",
 }
 
 
