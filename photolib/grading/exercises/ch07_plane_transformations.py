@@ -144,7 +144,7 @@ def _projective_params(rng):
     img = np.round(img + rng.uniform(-1.0, 1.0, img.shape), 3)
     P = np.round(rng.uniform(-10.0, 10.0, 2) * [1.0, 0.5], 3)
     return {"img": img.tolist(), "obj": obj.tolist(), "P": P.tolist(),
-            "img_text": _fmt_points(img, 3), "obj_text": _fmt_points(obj, 2),
+            "img_text": _fmt_points(img, 3), "obj_text": _fmt_points(obj, 3),
             "P_text": _fmt_points([P], 3)}
 
 
