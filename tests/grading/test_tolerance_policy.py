@@ -25,15 +25,9 @@ VARIANTS = tuple(f"tol{i:04d}" for i in range(24))
 #: PRINTED cuts the tolerance to keep the hint and the moved-input answer is rejected (or,
 #: for functions, a per-input tolerance cut the same way): they need their inputs printed to
 #: more digits (a fixed format such as {c_mm:.2f}: repr drops trailing zeros, "99.5" reads
-#: as good to 0.05 only) or variants drawn away from the mistake. Not yet done (issue 13);
-#: strict, so a fix shows up as an unexpected pass
-KNOWN_CONFLICTS = {
-    "int.scale-number", "dig.snr-db", "opt.snell", "opt.vignetting-corner", "io.field-angle",
-    "io.image-vector", "io.measured-position", "plane.projective-point",
-    "plane.bilinear-function", "rot.ray-direction", "st.sigma-z", "st.intersection",
-    "prd.relief-displacement",
-    "prd.occluded-length",
-}
+#: as good to 0.05 only) or variants drawn away from the mistake. Strict, so a fix shows up
+#: as an unexpected pass; the 14 of issue 13 are all fixed that way, none is left
+KNOWN_CONFLICTS: set = set()
 
 
 def _marked(ex):

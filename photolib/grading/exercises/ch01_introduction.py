@@ -126,7 +126,7 @@ scale_number = Exercise(
     params_name="p_scale",
     id="int.scale-number", points=2, kind="number", answer="m_b",
     title="Image scale number / Bildmaßstabszahl",
-    statement="An aerial camera with the camera constant c = {c_mm} mm takes a vertical image "
+    statement="An aerial camera with the camera constant c = {c_mm:.2f} mm takes a vertical image "
               "from H = {h_m} m above flat ground. The image scale is 1 : m_b. What is the "
               "image scale number m_b?",
     parameters=_scale_params, reference=_scale_number, tolerance=PRINTED, rtol=1e-4, atol=0.0,

@@ -164,8 +164,8 @@ snell = Exercise(
     params_name="p_snell",
     id="opt.snell", points=2, kind="number", answer="beta_deg",
     title="Refraction / Lichtbrechung (Snell)",
-    statement="A ray passes from {medium} (n1 = {n1}) into glass (n2 = {n2}) at the angle of "
-              "incidence α = {alpha_deg}° to the normal. What is the angle of refraction β "
+    statement="A ray passes from {medium} (n1 = {n1:.3f}) into glass (n2 = {n2:.3f}) at the angle of "
+              "incidence α = {alpha_deg:.1f}° to the normal. What is the angle of refraction β "
               "in degrees?",
     parameters=_snell_params, reference=_snell, tolerance=PRINTED, rtol=0.0, atol=1e-4,
     mistakes=(
@@ -179,15 +179,21 @@ snell = Exercise(
 
 
 # -- 5. cos⁴ at the corner (number) ---------------------------------------------------------------
-_FORMATS = {"36 mm × 24 mm": (36.0, 24.0), "23.5 mm × 15.6 mm": (23.5, 15.6),
-            "13.2 mm × 8.8 mm": (13.2, 8.8), "60 mm × 45 mm": (60.0, 45.0)}
+#: the formats, printed to 0.1 mm: "36 mm" would read as good to 0.5 mm only
+_FORMATS = {"36.0 mm × 24.0 mm": (36.0, 24.0), "23.5 mm × 15.6 mm": (23.5, 15.6),
+            "13.2 mm × 8.8 mm": (13.2, 8.8), "60.0 mm × 45.0 mm": (60.0, 45.0)}
 
 
 def _corner_params(rng):
+    # c drawn again where cos³τ at the corner (power mistake) and cos⁴ at half the width
+    # (side mistake) nearly coincide: two hints that must stay apart
     name = str(rng.choice(sorted(_FORMATS)))
     w, h = _FORMATS[name]
-    return {"format": name, "width": w, "height": h,
-            "c_mm": round(float(rng.uniform(0.5, 1.5) * math.hypot(w, h)), 1)}
+    while True:
+        p = {"format": name, "width": w, "height": h,
+             "c_mm": round(float(rng.uniform(0.5, 1.5) * math.hypot(w, h)), 1)}
+        if abs(_corner(p, power=3) - _corner(p, side=True)) >= 0.01:
+            return p
 
 
 def _corner(p, power=4, half=True, side=False):
@@ -199,7 +205,7 @@ vignetting_corner = Exercise(
     params_name="p_vignetting",
     id="opt.vignetting-corner", points=2, kind="number", answer="E_corner",
     title="Natural vignetting at the corner / Lichtabfall in der Bildecke",
-    statement="A camera with the format {format} and camera constant c = {c_mm} mm has an "
+    statement="A camera with the format {format} and camera constant c = {c_mm:.2f} mm has an "
               "ideal lens with only natural vignetting. What fraction E(τ)/E(0) of the "
               "irradiance in the image centre reaches a corner of the format?",
     parameters=_corner_params, reference=_corner, tolerance=PRINTED, rtol=1e-5, atol=0.0,

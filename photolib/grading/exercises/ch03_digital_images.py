@@ -131,13 +131,17 @@ def _snr_params(rng):
     The gain is drawn through the share q = (K²/12)/(S + σ_r²) of the quantisation variance,
     3 … 30 %: leaving K²/12 out then changes the SNR by 10·log10(1 + q) ≥ 0.12 dB, far more
     than the tolerance, for every variant (a coarse, e.g. 8-bit, converter). σ_r² < S keeps
-    the "shot noise missing" and "read noise missing" answers apart.
+    the "shot noise missing" and "read noise missing" answers apart; K²/12 is drawn at least
+    10 % away from σ_r², so "read noise missing" and "quantisation noise missing" (different
+    hints) differ by far more than the printed inputs' rounding.
     """
     signal = int(rng.integers(40, 1500))
     read_noise = round(float(rng.uniform(2.0, 6.0)), 1)
-    share = float(rng.uniform(0.03, 0.3))
-    gain = round(math.sqrt(12.0 * share * (signal + read_noise ** 2)), 2)
-    return {"signal": signal, "read_noise": read_noise, "gain": gain}
+    while True:
+        share = float(rng.uniform(0.03, 0.3))
+        gain = round(math.sqrt(12.0 * share * (signal + read_noise ** 2)), 2)
+        if abs(gain ** 2 / 12.0 - read_noise ** 2) >= 0.1 * read_noise ** 2:
+            return {"signal": signal, "read_noise": read_noise, "gain": gain}
 
 
 def _snr_db(p, shot=True, read=True, quant=True, factor=20.0):

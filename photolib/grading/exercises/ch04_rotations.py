@@ -235,15 +235,23 @@ def _ray_function(to_radians=None, c_factor=1.0, transpose=False, senses=(1, 1, 
 
 
 def _ray_cases(rng, p):
+    # the order mistake (R_φ·R_ω·R_κ) moves the ray by about ω·φ·r′/c: ω and φ are drawn
+    # at least a quarter of their range away from 0 and the image point at least a third of
+    # the half format from the principal point, so that it stays far outside the rounding of
+    # the printed c
+    def angle(limit):
+        return float(rng.choice([-1.0, 1.0])) * float(rng.uniform(0.25 * limit, limit))
+
     cases = []
     for _ in range(6):
         half = 0.6 * p["c_mm"]
         full = 400.0 if p["unit"] == "gon" else 360.0
         small = full / 72.0
-        cases.append((round(float(rng.uniform(-half, half)), 3),
-                      round(float(rng.uniform(-half, half)), 3),
-                      round(float(rng.uniform(-small, small)), 4),
-                      round(float(rng.uniform(-small, small)), 4),
+        while True:
+            x, y = (round(float(v), 3) for v in rng.uniform(-half, half, 2))
+            if np.hypot(x, y) >= half / 3.0:
+                break
+        cases.append((x, y, round(angle(small), 4), round(angle(small), 4),
                       round(float(rng.uniform(0.0, full)), 4)))
     return cases
 
@@ -260,7 +268,7 @@ ray_direction = Exercise(
     params_name="p_ray",
     id="rot.ray-direction", points=3, kind="function", answer="ray_direction",
     title="Image ray in the object frame (Bildstrahl im Objektsystem)",
-    statement="Your camera is {camera} with camera constant c = {c_mm} mm (Kamerakonstante); "
+    statement="Your camera is {camera} with camera constant c = {c_mm:.3f} mm (Kamerakonstante); "
               "the principal point is the origin. Write ray_direction(x, y, omega, phi, kappa) "
               "returning the unit vector, in the object frame, of the ray from the projection "
               "centre through the image point (x', y') = (x, y) in mm, for angles ω, φ, κ in "

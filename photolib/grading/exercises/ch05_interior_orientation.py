@@ -68,8 +68,8 @@ field_angle = Exercise(
     params_name="p_field",
     id="io.field-angle", points=2, kind="number", answer="tau_deg",
     title="Half format angle (halber Formatwinkel / Bildwinkel)",
-    statement="A close-range camera has a sensor of {W} × {H} pixels of {pixel_um} µm "
-              "(Pixelgröße) and the camera constant c = {c_mm} mm (Kamerakonstante); the "
+    statement="A close-range camera has a sensor of {W} × {H} pixels of {pixel_um:.2f} µm "
+              "(Pixelgröße) and the camera constant c = {c_mm:.3f} mm (Kamerakonstante); the "
               "principal point (Bildhauptpunkt) is at the centre of the format. Compute the "
               "angle τ between the optical axis and the ray to a corner of the image format, "
               "i.e. half the format angle over the diagonal (halber Formatwinkel or "
@@ -146,15 +146,27 @@ radial_factor = Exercise(
 
 
 # -- 3. image vector of a measured point (array) ------------------------------------------------
+#: the smallest distance (mm) of the two distortion-point mistakes from x* and from each
+#: other: far outside the rounding of the inputs printed to 0.0001 mm
+_VECTOR_GAP = 4e-4
+
+
 def _vector_params(rng):
-    sx, sy = rng.choice([-1.0, 1.0], size=2)
-    return {"c_mm": round(float(rng.uniform(8.0, 50.0)), 3),
-            "x0": round(float(rng.uniform(-0.15, 0.15)), 3),
-            "y0": round(float(rng.uniform(-0.15, 0.15)), 3),
-            "x": round(float(sx * rng.uniform(6.0, 11.5)), 3),
-            "y": round(float(sy * rng.uniform(4.0, 7.8)), 3),
-            "A1": _sig(-rng.uniform(0.5e-4, 1.5e-4)), "A2": _sig(rng.uniform(1e-8, 8e-8)),
-            "B1": _sig(rng.uniform(-8e-6, 8e-6)), "B2": _sig(rng.uniform(-8e-6, 8e-6))}
+    # drawn again where a distortion-point mistake nearly equals x* (x'0, y'0 near 0) or
+    # the other one: the rounding of the printed inputs would reach its hint
+    while True:
+        sx, sy = rng.choice([-1.0, 1.0], size=2)
+        p = {"c_mm": round(float(rng.uniform(8.0, 50.0)), 3),
+             "x0": round(float(rng.uniform(-0.15, 0.15)), 3),
+             "y0": round(float(rng.uniform(-0.15, 0.15)), 3),
+             "x": round(float(sx * rng.uniform(6.0, 11.5)), 3),
+             "y": round(float(sy * rng.uniform(4.0, 7.8)), 3),
+             "A1": _sig(-rng.uniform(0.5e-4, 1.5e-4)), "A2": _sig(rng.uniform(1e-8, 8e-8)),
+             "B1": _sig(rng.uniform(-8e-6, 8e-6)), "B2": _sig(rng.uniform(-8e-6, 8e-6))}
+        ref, ideal, measured = _vector(p), _ideal_point_mistake(p), _measured_point_mistake(p)
+        if min(np.max(np.abs(a - b)) for a, b in ((ref, ideal), (ref, measured),
+                                                   (ideal, measured))) >= _VECTOR_GAP:
+            return p
 
 
 def _reduced(p):
@@ -166,26 +178,33 @@ def _vector(p, ideal=None):
     return np.array([ideal[0], ideal[1], -p["c_mm"]])
 
 
+def _ideal_point_mistake(p):
+    return _vector(p, _distortion(p, sign=-1.0).distort(_reduced(p)))
+
+
+def _measured_point_mistake(p):
+    return _vector(p, _reduced(p) - _distortion(p).delta(np.array([p["x"], p["y"]])))
+
+
 image_vector = Exercise(
     params_name="p_vector",
     id="io.image-vector", points=3, kind="array", answer="x_star",
     title="Image vector of a measured point (Bildvektor)",
-    statement="A camera has the camera constant c = {c_mm} mm (Kamerakonstante), the principal "
-              "point (Bildhauptpunkt) x'0 = {x0} mm, y'0 = {y0} mm and the distortion "
+    statement="A camera has the camera constant c = {c_mm:.4f} mm (Kamerakonstante), the "
+              "principal point (Bildhauptpunkt) x'0 = {x0:.4f} mm, y'0 = {y0:.4f} mm and the "
+              "distortion "
               "(Verzeichnung) A1 = {A1:.3e} mm⁻², A2 = {A2:.3e} mm⁻⁴ (r0 = 0), B1 = {B1:.3e} mm⁻¹, "
-              "B2 = {B2:.3e} mm⁻¹. A point is measured at x' = {x} mm, y' = {y} mm. Give its "
+              "B2 = {B2:.3e} mm⁻¹. A point is measured at x' = {x:.4f} mm, y' = {y:.4f} mm. Give its "
               "image vector x* = (x' − x'0 − Δx', y' − y'0 − Δy', −c) in mm as a NumPy array.",
-    # relative 1e-6 accepts float32 (eps ≈ 6e-8) and a result printed to 1e-6 mm; the
-    # rounding of the printed inputs (1 µm) is not added: it would hide the distortion-point
-    # mistakes, which move x* by 0.1 µm and more
+    # relative 1e-6 accepts float32 (eps ≈ 6e-8) and a result printed to 1e-6 mm, plus the
+    # rounding of the inputs, printed to 0.1 µm so that it stays far inside the
+    # distortion-point mistakes (drawn ≥ 0.4 µm away)
     parameters=_vector_params, reference=_vector, tolerance=PRINTED, rtol=1e-6, atol=1e-6,
     mistakes=(
-        Mistake("distortion-point", _DISTORTION_POINT,
-                lambda p: _vector(p, _distortion(p, sign=-1.0).distort(_reduced(p)))),
+        Mistake("distortion-point", _DISTORTION_POINT, _ideal_point_mistake),
         Mistake("distortion-point", "Δ must be evaluated at the measured point reduced to the "
                                     "principal point, (x' − x'0, y' − y'0)",
-                lambda p: _vector(p, _reduced(p) - _distortion(p).delta(
-                    np.array([p["x"], p["y"]])))),
+                _measured_point_mistake),
         Mistake("sign-distortion", _SIGN_DISTORTION,
                 lambda p: _vector(p, _reduced(p) + _distortion(p).delta(_reduced(p)))),
         hints.sign_of(_vector, "c_mm"),
@@ -211,10 +230,24 @@ def _measured(p, xy):
     return _distortion(p).distort(xy, method="newton", tol=1e-12)
 
 
+#: the smallest distance (mm) of the distortion-point mistake from the measured position on a
+#: hidden point: it is |Δ|·|Δ′| and vanishes near r = r0 and the centre, where the rounding of
+#: the printed r0 would reach its hint
+_LENS_GAP = 4e-5
+
+
 def _lens_cases(rng, p):
     # the grader sends scalar arguments only (batch converts each to float)
-    return [(round(float(rng.uniform(-12.0, 12.0)), 3), round(float(rng.uniform(-8.0, 8.0)), 3))
-            for _ in range(8)]
+    cases = []
+    for _ in range(8):
+        for _attempt in range(1000):
+            xy = (round(float(rng.uniform(-12.0, 12.0)), 3), round(float(rng.uniform(-8.0, 8.0)), 3))
+            right = _measured(p, np.array(xy, float))
+            wrong = np.array(xy, float) + _distortion(p).delta(np.array(xy, float))
+            if np.max(np.abs(right - wrong)) >= _LENS_GAP:
+                break
+        cases.append(xy)
+    return cases
 
 
 measured_position = Exercise(
@@ -222,13 +255,14 @@ measured_position = Exercise(
     id="io.measured-position", points=3, kind="function", answer="measured_position",
     title="Where is an ideal point measured? (Iteration der Verzeichnung)",
     statement="Your lens has the balanced radial distortion (Verzeichnung) A1 = {A1:.3e} mm⁻², "
-              "A2 = {A2:.3e} mm⁻⁴, r0 = {r0} mm. Write measured_position(x, y) that takes ideal "
+              "A2 = {A2:.3e} mm⁻⁴, r0 = {r0:.4f} mm. Write measured_position(x, y) that takes ideal "
               "image coordinates reduced to the principal point (x, y in mm) and returns where "
               "this point is measured, as a NumPy array (x_m, y_m) in mm, to 1e-6 mm. "
               "Remember that Δ is evaluated at the measured point. It is tested on points you "
               "do not see.",
+    # rtol 1e-6: float32 work (the rounding of r0, printed to 0.1 µm, is far smaller)
     parameters=_lens_params, reference=_lens_function(_measured), tolerance=PRINTED, cases=_lens_cases,
-    rtol=0.0, atol=1e-6,
+    rtol=1e-6, atol=1e-6,
     mistakes=(
         Mistake("distortion-point", _DISTORTION_POINT + ": iterate x ← x_ideal + Δ(x)",
                 _lens_function(lambda p, xy: xy + _distortion(p).delta(xy))),

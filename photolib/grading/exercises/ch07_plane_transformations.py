@@ -144,7 +144,7 @@ def _projective_params(rng):
     img = np.round(img + rng.uniform(-1.0, 1.0, img.shape), 3)
     P = np.round(rng.uniform(-10.0, 10.0, 2) * [1.0, 0.5], 3)
     return {"img": img.tolist(), "obj": obj.tolist(), "P": P.tolist(),
-            "img_text": _fmt_points(img, 3), "obj_text": _fmt_points(obj, 2),
+            "img_text": _fmt_points(img, 3), "obj_text": _fmt_points(obj, 3),
             "P_text": _fmt_points([P], 3)}
 
 
@@ -366,14 +366,26 @@ fiducial_affine = Exercise(
 
 
 # -- 7. a bilinear transformation as a function (function) -----------------------------------
+#: how each coefficient is printed: to the digits it is drawn to (repr would print a0 drawn
+#: to 0.001 as "6948.6", good to 0.05 m only)
+_BILINEAR_FORMATS = {"a0": ".3f", "a1": ".6f", "a2": ".6f", "a3": ".3e",
+                     "b0": ".3f", "b1": ".6f", "b2": ".6f", "b3": ".3e"}
+
+
 def _bilinear_params(rng):
     m = float(rng.choice([0.5, 1.0, 2.0]))           # map scale 1:500, 1:1000, 1:2000: m per mm
-    a = [round(float(rng.uniform(2000.0, 8000.0)), 3), round(m * (1 + rng.uniform(-3e-3, 3e-3)), 6),
-         round(m * float(rng.uniform(-2e-3, 2e-3)), 6), round(float(rng.uniform(-2e-6, 2e-6)), 9)]
-    b = [round(float(rng.uniform(2000.0, 8000.0)), 3), round(m * float(rng.uniform(-2e-3, 2e-3)), 6),
-         round(m * (1 + rng.uniform(-3e-3, 3e-3)), 6), round(float(rng.uniform(-2e-6, 2e-6)), 9)]
+    # drawn again where both x·y coefficients are tiny: the no-xy mistake would then be
+    # within the rounding of the printed a0, b0
+    while True:
+        a = [round(float(rng.uniform(2000.0, 8000.0)), 3),
+             round(m * (1 + rng.uniform(-3e-3, 3e-3)), 6),
+             round(m * float(rng.uniform(-2e-3, 2e-3)), 6), round(float(rng.uniform(-2e-6, 2e-6)), 9)]
+        b = [round(float(rng.uniform(2000.0, 8000.0)), 3), round(m * float(rng.uniform(-2e-3, 2e-3)), 6),
+             round(m * (1 + rng.uniform(-3e-3, 3e-3)), 6), round(float(rng.uniform(-2e-6, 2e-6)), 9)]
+        if max(abs(a[3]), abs(b[3])) >= 5e-7:
+            break
     coeff = {f"a{i}": a[i] for i in range(4)} | {f"b{i}": b[i] for i in range(4)}
-    coeff["text"] = ", ".join(f"{k} = {v}" for k, v in coeff.items())
+    coeff["text"] = ", ".join(f"{k} = {v:{_BILINEAR_FORMATS[k]}}" for k, v in coeff.items())
     return coeff
 
 
@@ -411,7 +423,8 @@ _printed = hints.erratum_version("pl-notes:bilinear", _bilinear_printed, version
 
 
 def _bilinear_cases(rng, p):
-    return [(round(float(rng.uniform(0.0, 500.0)), 2), round(float(rng.uniform(0.0, 500.0)), 2))
+    # away from the sheet's axes, where x·y and so the no-xy mistake vanish
+    return [(round(float(rng.uniform(100.0, 500.0)), 2), round(float(rng.uniform(100.0, 500.0)), 2))
             for _ in range(6)]
 
 

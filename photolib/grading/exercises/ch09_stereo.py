@@ -95,7 +95,7 @@ sigma_z = Exercise(
     title="Accuracy of a stereo pair / Genauigkeit im Normalfall (example 3.7)",
     statement="A close-range stereo pair in the normal case: c = {c_mm} mm, object distance "
               "h = {h_m} m, base B = {B_m} m. The image coordinates x'1 and x'2 are measured "
-              "independently, each with σ_x' = {s_x_um} µm. Give the standard deviation σ_Z of "
+              "independently, each with σ_x' = {s_x_um:.2f} µm. Give the standard deviation σ_Z of "
               "the depth in mm.",
     parameters=_sigma_params, reference=_sigma_z, tolerance=PRINTED, rtol=1e-6, atol=1e-9,
     mistakes=(
@@ -155,8 +155,8 @@ intersection = Exercise(
     params_name="p_int",
     id="st.intersection", points=3, kind="function", answer="point",
     title="Forward intersection in the normal case / Vorwärtsschnitt im Normalfall",
-    statement="A stereo camera in the normal case: c = {c_mm} mm, principal point "
-              "x'0 = {x0_mm} mm, y'0 = {y0_mm} mm (both images), base B = {B_m} m; camera 1 at "
+    statement="A stereo camera in the normal case: c = {c_mm:.3f} mm, principal point "
+              "x'0 = {x0_mm:.3f} mm, y'0 = {y0_mm:.3f} mm (both images), base B = {B_m:.3f} m; camera 1 at "
               "the origin, camera 2 at (B, 0, 0), R = I. Write point(x1, y1, x2, y2) that "
               "returns the object point (X, Y, Z) in m (NumPy array of shape (3,)) from the "
               "image coordinates (mm) of both images. It is tested on points you do not see.",

@@ -33,10 +33,16 @@ _MM_M = ("the result is 1000 times off: r is in mm, Δh and H in m, so Δr = r·
 
 # -- 1. relief displacement (number) --------------------------------------------------------------
 def _relief_params(rng):
+    # drawn again until the foot-formula mistake, Δr·Δh/(H − Δh) off, lies well outside the
+    # rounding of the printed Δh and r (0.01 m, 0.01 mm: Δh/H ≥ 0.5 %) and of an answer
+    # given to 0.001 mm (≥ 0.0015 mm)
     cam = aerial_camera(rng)
-    return {"c_mm": cam["c_mm"], "H": cam["h_m"],
-            "dh": round(float(rng.uniform(10.0, min(150.0, 0.1 * cam["h_m"]) + 10.0)), 1),
-            "r_mm": round(float(rng.uniform(20.0, 110.0)), 2)}
+    H = cam["h_m"]
+    while True:
+        dh = round(float(rng.uniform(10.0, min(150.0, 0.1 * H) + 10.0)), 1)
+        r = round(float(rng.uniform(20.0, 110.0)), 2)
+        if dh >= 0.005 * H and r * dh * dh / (H * (H - dh)) >= 0.0015:
+            return {"c_mm": cam["c_mm"], "H": H, "dh": dh, "r_mm": r}
 
 
 def _relief(p):
@@ -48,13 +54,13 @@ relief = Exercise(
     params_name="p_relief",
     id="prd.relief-displacement", points=2, kind="number", answer="dr",
     title="Relief displacement / radiale Versetzung",
-    statement="A vertical aerial image (camera constant c = {c_mm} mm) is taken {H} m above "
-              "the ground. The top of a chimney {dh} m high appears {r_mm} mm from the "
+    statement="A vertical aerial image (camera constant c = {c_mm:.2f} mm) is taken {H} m above "
+              "the ground. The top of a chimney {dh:.2f} m high appears {r_mm:.2f} mm from the "
               "principal point (= nadir point). By how much (in mm, image) is it displaced "
               "radially from its foot?",
-    # the rounding of the printed r, Δh, H, kept off the foot-formula mistake (which moves
-    # Δr by as little as 0.2 %); the old 1e-6 rejected Δr given to 0.001 mm
-    parameters=_relief_params, reference=_relief, tolerance=PRINTED,
+    # the rounding of the printed r, Δh, H (Δh and r to 0.01), at least an answer's rounding
+    # to 0.001 mm (the old 1e-6 rejected it), kept off the foot-formula mistake
+    parameters=_relief_params, reference=_relief, tolerance=PRINTED, atol=5e-4,
     mistakes=(
         Mistake("units-mm-m", _MM_M, lambda p: _relief(p) * 1e-3),
         Mistake("units-mm-m", _MM_M, lambda p: _relief(p) * 1e3),
@@ -229,8 +235,13 @@ product = Exercise(
 def _occluded_params(rng):
     cam = aerial_camera(rng)
     H = min(max(cam["h_m"], 300.0), 1500.0)
-    return {"H": H, "h": round(float(rng.uniform(8.0, 60.0)), 1),
-            "d": round(float(rng.uniform(50.0, 400.0)), 1)}
+    # drawn again until the relief-formula mistake (L·h/H off) lies well outside an answer
+    # given to 0.001 m
+    while True:
+        h = round(float(rng.uniform(8.0, 60.0)), 1)
+        d = round(float(rng.uniform(50.0, 400.0)), 1)
+        if d * h * h / (H * (H - h)) >= 0.0015:
+            return {"H": H, "h": h, "d": d}
 
 
 def _occluded(p):
@@ -242,11 +253,12 @@ occluded = Exercise(
     id="prd.occluded-length", points=2, kind="number", answer="L",
     title="Hidden ground behind a building (sichttote Fläche)",
     statement="A vertical image is taken {H} m above flat ground. The far wall of a building "
-              "{h} m high (flat roof) stands {d} m (plan distance) from the nadir point, facing "
+              "{h:.2f} m high (flat roof) stands {d:.2f} m (plan distance) from the nadir point, facing "
               "away from it. How long (in m, on the ground, along the radial direction) is "
               "the strip behind the wall that the image cannot see?",
-    # the rounding of the printed H, h, d (the old 1e-6 rejected L to 0.001 m)
-    parameters=_occluded_params, reference=_occluded, tolerance=PRINTED,
+    # the rounding of the printed H, h, d (h and d to 0.01 m), at least an answer's rounding
+    # to 0.001 m (the old 1e-6 rejected it)
+    parameters=_occluded_params, reference=_occluded, tolerance=PRINTED, atol=5e-4,
     mistakes=(
         Mistake("relief-formula", "d·h/H is too short: the ray over the roof edge (d, h) "
                                   "reaches the ground at d·H/(H − h), so L = d·h/(H − h)",
