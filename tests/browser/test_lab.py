@@ -98,7 +98,11 @@ def test_chapter_runs_and_widgets_react(lab_url, lab_log, page, artifacts, chapt
         x, y = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2
         # drag towards the side with room: a slider may start at its maximum
         track = w.locator(".noUi-base").first.bounding_box()
-        step = -40 if track and x > track["x"] + track["width"] / 2 else 40
+        # by 0.45 of the track (at least 40 px): sliders are sized to one pixel per step or
+        # more, so a fixed 40 px on a wide track of a 3-value slider (chapter 10's 'strips')
+        # moved less than half a step and the value, hence the figure, did not change
+        dist = max(40.0, 0.45 * track["width"]) if track else 40.0
+        step = -dist if track and x > track["x"] + track["width"] / 2 else dist
         page.mouse.move(x, y)
         page.mouse.down()
         page.mouse.move(x + step, y, steps=4)
