@@ -15,11 +15,9 @@ from .variant_count import distinct_variants
 ALL = [ex for exs in chapters().values() for ex in exs]
 STUDENTS = tuple(f"s{i}" for i in range(400))
 
-#: below MIN_VARIANTS today and not yet widened (issue 13, point 9): 6 distinct symbolic
-#: derivatives (opt.airy-radius, im.conic-centre and col.partial-derivative are widened;
-#: bun.normal-contribution states its few_variants: σ0 = 1 mm for all). Strict: a fix shows
-#: up as an unexpected pass
-NOT_YET = {"rot.matrix-derivative"}
+#: below MIN_VARIANTS and not yet widened (issue 13, point 9): none left since
+#: rot.matrix-derivative acts on a drawn vector. Strict: a fix shows up as an unexpected pass
+NOT_YET: set[str] = set()
 
 
 def _marked(ex):

@@ -4,7 +4,8 @@ Four exercises, one per answer kind that fits the chapter:
 
 * ``rot.opk-matrix`` (rotation): R from an aerial attitude given in gon;
 * ``rot.angles-from-matrix`` (array): ω, φ, κ in degrees back out of a printed matrix;
-* ``rot.matrix-derivative`` (expression): ∂R/∂t (or ∂M/∂t for Wolf's M = Rᵀ) with SymPy;
+* ``rot.matrix-derivative`` (expression): ∂R/∂t·x* (or ∂M/∂t·(X − X0) for Wolf's M = Rᵀ)
+  with SymPy;
 * ``rot.ray-direction`` (function): the object-frame direction of an image ray.
 
 References are computed by :mod:`photolib` (``rotation_opk``, ``opk_from_rotation``) and by
@@ -151,11 +152,26 @@ _ANGLE_NAMES = {"omega": "ω", "phi": "φ", "kappa": "κ"}
 _MATRICES = {"R": "the course's R = R_ω·R_φ·R_κ", "M": "Wolf's M = Rᵀ (object → camera)"}
 
 
+_VECTORS = {"R": "the image vector x* = (x', y', −c)", "M": "the object vector X − X0"}
+
+
 def _derivative_params(rng):
+    """Which angle, which matrix, and the vector it acts on (whole mm, so exact in SymPy).
+
+    R acts on an image vector (x', y' within ±110 mm, c from 80 to 160 mm), M on an object
+    vector below the camera; no component is 0, so neither mistake can vanish.
+    """
     angle = str(rng.choice(sorted(_ANGLE_NAMES)))
     matrix = str(rng.choice(sorted(_MATRICES)))
+    def nonzero(lo, hi):
+        return int(rng.choice([v for v in range(lo, hi + 1) if v != 0]))
+    if matrix == "R":
+        v = (nonzero(-110, 110), nonzero(-110, 110), -int(rng.integers(80, 161)))
+    else:
+        v = (nonzero(-500, 500), nonzero(-500, 500), -int(rng.integers(500, 1501)))
     return {"angle": angle, "angle_symbol": _ANGLE_NAMES[angle], "matrix": matrix,
-            "matrix_text": _MATRICES[matrix]}
+            "matrix_text": _MATRICES[matrix], "vector_text": _VECTORS[matrix],
+            "v": v, "v_text": f"({v[0]}, {v[1]}, {v[2]}) mm"}
 
 
 @functools.cache
@@ -175,7 +191,8 @@ def _derivative(p, order="opk", sense=1):
         R = R.xreplace({t: -t})
     if p["matrix"] == "M":
         R = R.T
-    return R.diff(t)
+    import sympy as sp
+    return R.diff(t) * sp.Matrix(p["v"])
 
 
 def _derivative_order(p):
@@ -188,8 +205,10 @@ matrix_derivative = Exercise(
     symbols=("omega", "phi", "kappa"),
     title="Derivative of the rotation matrix (Ableitung der Drehmatrix)",
     statement="Linearising the collinearity equations needs derivatives of the rotation. "
-              "Derive with SymPy ∂/∂{angle_symbol} of {matrix_text} as a 3×3 sympy.Matrix "
-              "in the symbols omega, phi, kappa (sympy.symbols('omega phi kappa')).",
+              "Derive with SymPy ∂/∂{angle_symbol} of {matrix_text}, applied to "
+              "{vector_text} = {v_text} (the vector is p_deriv.v): the 3×1 sympy.Matrix "
+              "∂({matrix}·v)/∂{angle_symbol} in the symbols omega, phi, kappa "
+              "(sympy.symbols('omega phi kappa')).",
     parameters=_derivative_params, reference=_derivative,
     mistakes=(
         Mistake("sense", f"{hints.MESSAGES['sense']} (in the elementary rotation)",
