@@ -44,6 +44,7 @@ import sympy as sp
 
 from photolib.derive import plane
 from photolib.errata import get
+from photolib.nb._table import HtmlTableExplorer
 
 
 def _is_sym(e) -> bool:
@@ -379,7 +380,7 @@ def verdict_table_html(query: str = "", source: str = "all", chapter: str = "all
             f"{''.join(body)}</table>")
 
 
-class VerdictExplorer:
+class VerdictExplorer(HtmlTableExplorer):
     """Search box, source, chapter and verdict filters → the committed verdicts, in full.
 
     The errata chapter's interactive table, built like the glossary's
@@ -416,22 +417,7 @@ class VerdictExplorer:
         controls = w.HBox(list(self.controls.values()),
                           layout=w.Layout(flex_flow="row wrap"))
         self.widget = Panel([controls, self.html], title=self.title)
-        for control in self.controls.values():
-            control.observe(self._on_change, names="value")
-        self.update()
+        self._connect()
 
-    def values(self) -> dict:
-        return {name: c.value for name, c in self.controls.items()}
-
-    def _on_change(self, change) -> None:
-        self.update()
-
-    def update(self) -> str:
-        """Recompute the table from the current controls; returns the HTML."""
-        self.html.value = verdict_table_html(**self.values())
-        return self.html.value
-
-    def _ipython_display_(self):
-        from IPython.display import display
-
-        display(self.widget)
+    def render(self, **values) -> str:
+        return verdict_table_html(**values)

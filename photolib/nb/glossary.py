@@ -12,6 +12,7 @@ import html as _html
 import ipywidgets as widgets
 
 from photolib.glossary import CHAPTERS, LANGUAGES, SOURCES, load_glossary, search
+from photolib.nb._table import HtmlTableExplorer
 from photolib.nb.live import Panel
 
 __all__ = ["GlossaryExplorer", "counts", "search_html", "table_html"]
@@ -66,7 +67,7 @@ def counts() -> dict:
     return {"chapters": {c: n for c, n in chapters.items() if n}, "sources": sources}
 
 
-class GlossaryExplorer:
+class GlossaryExplorer(HtmlTableExplorer):
     """Search box, language and chapter filters → matching terms with links to the chapters."""
 
     title = "glossary search"
@@ -85,22 +86,7 @@ class GlossaryExplorer:
         self.html = widgets.HTML()
         self.widget = Panel([widgets.HBox(list(self.controls.values())), self.html],
                             title=self.title)
-        for control in self.controls.values():
-            control.observe(self._on_change, names="value")
-        self.update()
+        self._connect()
 
-    def values(self) -> dict:
-        return {name: c.value for name, c in self.controls.items()}
-
-    def _on_change(self, change) -> None:
-        self.update()
-
-    def update(self) -> str:
-        """Recompute the table from the current controls; returns the HTML."""
-        self.html.value = search_html(**self.values())
-        return self.html.value
-
-    def _ipython_display_(self):
-        from IPython.display import display
-
-        display(self.widget)
+    def render(self, **values) -> str:
+        return search_html(**values)
