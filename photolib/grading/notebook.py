@@ -97,7 +97,7 @@ def issued_for(value):
 
 def parameters_for(exercise, student_id: str) -> Params:
     """The variant of ``exercise`` for ``student_id``."""
-    return Params(exercise.parameters(rng_for(student_id, exercise.id)))
+    return Params(exercise.parameters(rng_for(student_id, exercise.seed_id)))
 
 
 def _where_line(ex, params) -> str:

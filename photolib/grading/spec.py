@@ -139,6 +139,15 @@ class Exercise:
         Float parameters that are exact as printed, not measurements rounded to their last
         digit (a significance level α = 0.05, a stated requirement): the rounding of the
         printed inputs (``tolerance=PRINTED`` and the policy's tests) leaves them alone.
+    scenario : str
+        Multi-step exercises: the id of the scenario this exercise is one step of (by
+        convention the id of its first step). Every step of a scenario draws its parameters
+        from the same seed (:func:`photolib.grading.variants.rng_for` with the scenario id),
+        so the steps share the student's numbers; each step is graded on its own (its own id,
+        answer and gradebook column), and a later step's parameters carry the correct result
+        of the earlier steps it builds on, so that a wrong first step does not hide a right
+        method. Empty for a single-step exercise. :func:`photolib.grading.exercises.chapters`
+        checks that a scenario's steps are in one chapter and titled "Step k of n".
     few_variants : str
         Why this exercise cannot draw :data:`MIN_VARIANTS` distinct variants (a multiple
         choice has as many correct answers as options); empty when it does. The tests count
@@ -163,6 +172,7 @@ class Exercise:
     positive: tuple = ()
     choices: dict = field(default_factory=dict)
     exact: tuple = ()
+    scenario: str = ""
     few_variants: str = ""
 
     def __post_init__(self):
@@ -188,9 +198,17 @@ class Exercise:
             raise ValueError(f"exercise {self.id}: a function exercise needs cases")
         if self.kind == "choice" and not self.choices:
             raise ValueError(f"exercise {self.id}: a multiple choice needs choices")
+        if self.scenario and not _ID.match(self.scenario):
+            raise ValueError(f"exercise {self.id}: scenario {self.scenario!r} must be an "
+                             f"exercise id")
         if isinstance(self.tolerance, str) and self.tolerance != PRINTED:
             raise ValueError(f"exercise {self.id}: tolerance {self.tolerance!r} is neither a "
                              f"function nor {PRINTED!r}")
+
+    @property
+    def seed_id(self) -> str:
+        """The id the variant's generator is seeded with: the scenario's, else the exercise's."""
+        return self.scenario or self.id
 
     def tolerances(self, params: Params) -> tuple[float, float]:
         """``(rtol, atol)`` for this variant (``atol`` may be an array, one per entry).

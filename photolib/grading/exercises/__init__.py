@@ -16,6 +16,7 @@ import difflib
 import functools
 import importlib
 import pkgutil
+import re
 
 __all__ = ["chapter", "chapters", "exercise"]
 
@@ -40,6 +41,7 @@ def chapters() -> dict:
                 raise ValueError(f"exercise id {ex.id!r} is used in {seen_ids[ex.id]} and {name}")
             seen_ids[ex.id] = name
         _check_names(name, exercises)
+        _check_scenarios(name, exercises)
         found[name] = exercises
     return found
 
@@ -61,6 +63,37 @@ def _check_names(name: str, exercises) -> None:
             raise ValueError(f"chapter {name}: {ex.id} keeps its parameters in "
                              f"{ex.params_name!r}, the answer variable of {answers[ex.params_name]}")
         owner[ex.params_name] = ex.id
+
+
+_STEP = re.compile(r"^Step (\d+) of (\d+)\b")
+
+
+def scenarios(exercises) -> dict:
+    """Scenario id -> its steps (exercises in order), for the multi-step exercises given."""
+    found: dict = {}
+    for ex in exercises:
+        if ex.scenario:
+            found.setdefault(ex.scenario, []).append(ex)
+    return found
+
+
+def _check_scenarios(name: str, exercises) -> None:
+    """The steps of a multi-step exercise: at least two, in one chapter, titled "Step k of n"."""
+    ids = {ex.id for ex in exercises}
+    for scenario, steps in scenarios(exercises).items():
+        if scenario not in ids:
+            raise ValueError(f"chapter {name}: scenario {scenario!r} of {steps[0].id} is not an "
+                             f"exercise of this chapter (by convention it is the first step's id)")
+        n = len(steps)
+        if n < 2:
+            raise ValueError(f"chapter {name}: scenario {scenario!r} has one step ({steps[0].id}); "
+                             f"a multi-step exercise has at least two")
+        for k, ex in enumerate(steps, 1):
+            m = _STEP.match(ex.title)
+            if not m or (int(m.group(1)), int(m.group(2))) != (k, n):
+                raise ValueError(f"chapter {name}: {ex.id} is step {k} of {n} of scenario "
+                                 f"{scenario!r}; its title must begin 'Step {k} of {n}', got "
+                                 f"{ex.title!r}")
 
 
 def chapter(name: str) -> tuple:
