@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-__all__ = ["MAX_ELEMENTS", "NONE", "NOT_ANSWERED", "DecodeError", "decode_value",
+__all__ = ["MAX_ELEMENTS", "NONE", "NOT_ANSWERED", "DecodeError", "Raised", "decode_value",
            "decoded_or_unsupported", "encode_value", "unanswered"]
 
 MAX_ELEMENTS = 100_000
@@ -318,7 +318,33 @@ def decode_value(data, _depth=0):
         return [decode_value(v, _depth + 1) for v in values]
     if kind == "other":
         return Unsupported(str(data.get("type", "?"))[:80])
+    if kind == "raised":
+        return Raised(str(data.get("type", "?"))[:80], bool(data.get("ve")),
+                      str(data.get("m", ""))[:200])
     raise DecodeError(f"unknown answer type {str(kind)[:30]!r}")
+
+
+class Raised:
+    """A function's outcome on one test input when it raised instead of returning.
+
+    A degenerate test input (collinear points, zero parallax) has no answer: the reference
+    raises ``ValueError`` naming the problem, and a student's function is right there when
+    it raises ``ValueError`` (or a subclass) too; the message is not judged.
+    """
+
+    def __init__(self, type_name: str, value_error: bool, message: str = ""):
+        self.type_name, self.value_error, self.message = type_name, value_error, message
+
+    @classmethod
+    def of(cls, exc: BaseException) -> Raised:
+        return cls(type(exc).__name__, isinstance(exc, ValueError), str(exc)[:200])
+
+    def record(self) -> dict:
+        """As the grader's extraction emits it (``decode_value`` reads it back)."""
+        return {"t": "raised", "type": self.type_name, "ve": self.value_error, "m": self.message}
+
+    def __repr__(self):
+        return f"Raised({self.type_name!r}, {self.message!r})"
 
 
 class Unsupported:

@@ -102,6 +102,13 @@ def _photolib_extract_{nonce}():
                 _emit({{"output": encode_value(_res)}})
             except NotImplementedError:
                 _emit({{"output": {{"t": "none"}}}})
+            except TimeoutError as _e:
+                _emit({{"error": "your function raised TimeoutError: " + str(_e)[:200]}})
+                return
+            except Exception as _e:
+                # a degenerate input's right answer may be an error (judged as Raised)
+                _emit({{"output": {{"t": "raised", "type": type(_e).__name__,
+                                   "ve": isinstance(_e, ValueError), "m": str(_e)[:200]}}}})
             except BaseException as _e:
                 _emit({{"error": "your function raised " + type(_e).__name__ + ": "
                                  + str(_e)[:200]}})

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from photolib.grading.encode import NONE, NOT_ANSWERED, Unsupported, unanswered
+from photolib.grading.encode import NONE, NOT_ANSWERED, Raised, Unsupported, unanswered
 from photolib.grading.hints import generic_mistakes
 
 __all__ = ["FunctionOutputs", "Judgement", "compare", "judge", "printed_half_units",
@@ -337,7 +337,7 @@ def function_atols(exercise, params, outputs_of, share=0.4):
     output (:func:`printed_half_units`, moved one at a time), at least the exercise's
     ``atol``, cut to ``share`` of the distance to each mistake's output on that input.
     """
-    base = [np.asarray(v, float) for v in outputs_of(exercise.reference(params))]
+    base = [_numeric(v) for v in outputs_of(exercise.reference(params))]
     key = (exercise.id, share, _params_key(params), tuple(v.tobytes() for v in base))
     return _cached(key, lambda: _function_atols(exercise, params, outputs_of, share, base))
 
@@ -363,7 +363,7 @@ def _function_atols(exercise, params, outputs_of, share, base):
                     changed[name] = element.tolist()
                 shifted.append(outputs_of(exercise.reference(type(params)(changed))))
             for k, (up, down) in enumerate(zip(*shifted)):
-                total[k] = total[k] + np.abs(np.asarray(up, float) - np.asarray(down, float)) / 2
+                total[k] = total[k] + np.abs(_numeric(up) - _numeric(down)) / 2
     atols = [np.maximum(PRINTED_MARGIN * t, float(exercise.atol)) for t in total]
     for mistake in _all_mistakes(exercise):
         try:
@@ -374,13 +374,19 @@ def _function_atols(exercise, params, outputs_of, share, base):
         if values is None:
             continue
         for k, (value, ref) in enumerate(zip(values, base)):
-            value = np.asarray(value, float)
+            value = _numeric(value)
             if value.shape != ref.shape or not np.all(np.isfinite(value)):
                 continue
             gap = float(np.max(np.abs(value - ref)))
             if gap > 1e-12 * (1.0 + float(np.max(np.abs(ref)))):
                 atols[k] = np.minimum(atols[k], share * gap)
     return [float(a) if a.ndim == 0 else a for a in atols]
+
+
+def _numeric(value):
+    """An output as a float array; a raised error (a degenerate input) as 0, whose tolerance
+    is never used (:class:`~photolib.grading.encode.Raised` is judged by its type)."""
+    return np.zeros(()) if isinstance(value, Raised) else np.asarray(value, float)
 
 
 def _numbers_match(answer, expected, rtol, atol) -> bool:
@@ -584,6 +590,18 @@ def compare(exercise, answer, expected, params, tolerances=None) -> tuple[bool, 
             return False, "the function did not answer every test input"
         per_input = atol if isinstance(atol, list) else [atol] * len(expected)
         for got, want, atol in zip(answer.outputs, expected, per_input):
+            if isinstance(want, Raised):      # a degenerate input: the answer is an error
+                if isinstance(got, Raised) and got.value_error:
+                    continue
+                if isinstance(got, Raised):
+                    return False, (f"for a degenerate input ({want.message}) your function "
+                                   f"raised {got.type_name}; raise ValueError saying what is "
+                                   f"wrong with the input")
+                return False, (f"a degenerate input ({want.message}) has no answer: your "
+                               f"function returned {_describe(got)} instead of raising "
+                               f"ValueError")
+            if isinstance(got, Raised):
+                return False, f"your function raised {got.type_name}: {got.message}"
             if got is NONE:
                 return False, "the function returned None: is its return statement missing?"
             if got is NOT_ANSWERED or isinstance(got, (str, bool, Unsupported, list)):

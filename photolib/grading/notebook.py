@@ -14,7 +14,7 @@ import re
 import string
 import sys
 
-from photolib.grading.encode import (NOT_ANSWERED, Unsupported, decode_value,
+from photolib.grading.encode import (NOT_ANSWERED, Raised, Unsupported, decode_value,
                                       decoded_or_unsupported, encode_value)
 from photolib.grading.exercises import exercise as _exercise
 from photolib.grading.judge import FunctionOutputs, judge
@@ -153,16 +153,29 @@ def function_outputs(func, cases) -> FunctionOutputs:
             value = func(*args)
         except NotImplementedError:
             value = ...                 # untouched, as the grader's extraction reports it
-        except Exception as exc:  # noqa: BLE001 - the student's function may raise anything
+        except TimeoutError as exc:
             return FunctionOutputs((), f"your function raised {type(exc).__name__}: {exc}")
+        except Exception as exc:  # noqa: BLE001 - the student's function may raise anything
+            outputs.append(Raised.of(exc))  # judged: right only where the reference raises
+            continue
         outputs.append(decode_value(encode_value(value)))
     return FunctionOutputs(tuple(outputs))
 
 
 def reference_outputs(cases):
-    """``outputs_of`` for :func:`~photolib.grading.judge.judge`: any function on ``cases``."""
+    """``outputs_of`` for :func:`~photolib.grading.judge.judge`: any function on ``cases``.
+
+    Where the function raises ``ValueError`` (the reference on a degenerate input, or a
+    mistaken implementation) the output is :class:`~photolib.grading.encode.Raised`.
+    """
+    def one(func, args):
+        try:
+            return decode_value(encode_value(func(*args)))
+        except ValueError as exc:
+            return Raised.of(exc)
+
     def outputs_of(func):
-        return tuple(decode_value(encode_value(func(*args))) for args in cases)
+        return tuple(one(func, args) for args in cases)
     return outputs_of
 
 
