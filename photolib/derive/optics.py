@@ -340,3 +340,49 @@ def chromatic_errors():
     c1, _ = colour_spot(f_1)
     c2, blur2 = colour_spot(f_2)
     return sp.factor(blur2.subs(ap, f_1)), sp.factor((c2 - c1).subs(ap, f_1))
+
+
+# -- diffraction at a straight edge and at a grating ----------------------------------------------
+w_edge = sp.Symbol("w", real=True)
+t_int = sp.Symbol("t", real=True)
+delta_g, theta_g, d_g, lam_g = sp.symbols("delta theta d lambda", positive=True)
+m_order = sp.Symbol("m", integer=True)
+
+
+def edge_intensity(w=w_edge):
+    """Intensity behind a straight edge relative to the free wave, from Fresnel–Kirchhoff.
+
+    In the Fresnel approximation the edge only limits the integral across it: the amplitude
+    at the point of observation, with the aperture coordinate scaled to ``t`` so that the
+    phase is π·t²/2, is ``∫_{−w}^{∞} e^{iπt²/2} dt`` where ``w = x·√(2/(λz))``; the free
+    wave is the same integral from −∞, ``1 + i``. Splitting at 0 (the integrand is even):
+    ``∫₀^∞ + ∫₀^w`` = ``(½ + C(w)) + i(½ + S(w))``, so ``I/I₀ = ½[(½ + C)² + (½ + S)²]``.
+    The integrals are SymPy's own (``integrate`` gives ``fresnelc``, ``fresnels`` and the
+    Fresnel limits ½).
+    """
+    half_c = sp.integrate(sp.cos(sp.pi * t_int**2 / 2), (t_int, 0, sp.oo))
+    half_s = sp.integrate(sp.sin(sp.pi * t_int**2 / 2), (t_int, 0, sp.oo))
+    C = sp.gammasimp(sp.integrate(sp.cos(sp.pi * t_int**2 / 2), (t_int, 0, w)))
+    S = sp.gammasimp(sp.integrate(sp.sin(sp.pi * t_int**2 / 2), (t_int, 0, w)))
+    amplitude = (half_c + C) + sp.I * (half_s + S)
+    free = 2 * half_c + 2 * sp.I * half_s
+    return sp.simplify(sp.expand_complex(amplitude * sp.conjugate(amplitude))
+                       / sp.expand_complex(free * sp.conjugate(free)))
+
+
+def grating_array_factor(n: int):
+    """``|Σ_{k<N} e^{ikδ}|² − sin²(Nδ/2)/sin²(δ/2)`` for a given N: zero (returned simplified).
+
+    The waves of N equally spaced slits differ in phase by δ = 2π·d·sin θ/λ; the geometric
+    sum of their phasors has this closed form.
+    """
+    s = sum(sp.exp(sp.I * k * delta_g) for k in range(int(n)))
+    power = sp.expand(s * sp.conjugate(s))
+    closed = sp.sin(n * delta_g / 2) ** 2 / sp.sin(delta_g / 2) ** 2
+    return sp.simplify((power - closed).rewrite(sp.exp))
+
+
+def grating_maxima():
+    """``sin θ_m`` of the principal maxima: the phase step δ = 2π·d·sin θ/λ equal to 2π·m."""
+    s = sp.Symbol("s", real=True)
+    return sp.solve(sp.Eq(2 * sp.pi * d_g * s / lam_g, 2 * sp.pi * m_order), s)[0]

@@ -28,6 +28,8 @@ __all__ = [
     "plot_airy_profile",
     "plot_chromatic_shift",
     "plot_dispersion",
+    "plot_edge_diffraction",
+    "plot_grating",
     "plot_pinhole_blur",
     "plot_refraction",
     "plot_stereo_acuity",
@@ -315,6 +317,57 @@ def plot_airy_profile(wavelength_nm: float = 550.0, k: float = 8.0, half_um: flo
     ax.set(xlabel="r [µm]", ylabel="relative", ylim=(0, 1.05),
            title=f"Airy pattern / Beugungsscheibchen, λ = {wavelength_nm:g} nm, k = {k:g}")
     ax.legend(fontsize=7)
+    return finished(fig)
+
+
+def plot_edge_diffraction(wavelength_nm: float = 550.0, distance_mm: float = 1000.0,
+                          half_mm: float = 2.5):
+    """Fresnel fringes behind a straight edge: the profile and the pattern as a grey image."""
+    import matplotlib.pyplot as plt
+
+    lam_um, z_um = wavelength_nm * 1e-3, distance_mm * 1e3
+    x_mm = np.linspace(-half_mm / 2, half_mm, 1200)
+    intensity = po.edge_diffraction(x_mm * 1e3, lam_um, z_um)
+    x1 = po.edge_first_fringe(lam_um, z_um) * 1e-3
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(5.4, 3.6), sharex=True,
+                                      gridspec_kw={"height_ratios": [3, 1]})
+    top.plot(x_mm, intensity, lw=1.2, label="I/I₀ (Fresnel)")
+    top.plot(x_mm, (x_mm >= 0).astype(float), color="0.5", lw=1, ls=":",
+             label="geometric shadow")
+    top.axvline(x1, color="#d62728", lw=1, ls="--",
+                label=f"first fringe x₁ = {x1:.3f} mm, I = 1.37 I₀")
+    top.axhline(0.25, color="#2ca02c", lw=0.8, ls="-.", label="¼ on the shadow line")
+    top.set(ylabel="I/I₀", ylim=(0, 1.5),
+            title=f"edge / Kante: λ = {wavelength_nm:g} nm, screen at z = {distance_mm:g} mm")
+    top.legend(fontsize=7, loc="upper left")
+    bottom.imshow(np.tile(intensity, (20, 1)), cmap="gray", aspect="auto", vmin=0, vmax=1.4,
+                  extent=(x_mm[0], x_mm[-1], 0, 1))
+    bottom.set(xlabel="x from the shadow line [mm] (x < 0: shadow)", yticks=[])
+    return finished(fig)
+
+
+def plot_grating(wavelength_nm: float = 550.0, pitch_um: float = 2.0, slit_um: float = 0.6,
+                 slits=(2, 5, 20)):
+    """N-slit Fraunhofer patterns of one grating: sharper orders as N grows, one envelope."""
+    import matplotlib.pyplot as plt
+
+    lam = wavelength_nm * 1e-3
+    theta = np.radians(np.linspace(-60.0, 60.0, 4001))
+    fig, ax = plt.subplots(figsize=(5.4, 3.0))
+    for n in slits:
+        ax.plot(np.degrees(theta), po.grating_intensity(theta, lam, pitch_um, slit_um, n),
+                lw=1, label=f"N = {n}")
+    envelope = np.sinc(slit_um * np.sin(theta) / lam) ** 2
+    ax.plot(np.degrees(theta), envelope, color="0.3", ls="--", lw=1, label="single slit")
+    top = int(np.floor(pitch_um / lam))
+    for m in range(-top, top + 1):
+        angle = float(np.degrees(po.grating_angles(pitch_um, lam, m)))
+        if abs(angle) <= 60.0:
+            ax.annotate(f"m = {m}", (angle, 1.02), ha="center", fontsize=7)
+    ax.set(xlabel="θ [°]", ylabel="I(θ)/I(0)", ylim=(0, 1.12),
+           title=f"grating / Gitter: d = {pitch_um:g} µm, a = {slit_um:g} µm, "
+                 f"λ = {wavelength_nm:g} nm")
+    ax.legend(fontsize=7, loc="center right")
     return finished(fig)
 
 

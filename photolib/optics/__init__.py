@@ -11,7 +11,7 @@ glass catalogues). Angles are radians. Distances a, a' are positive, measured fr
 Arrays broadcast: each function accepts scalars or arrays and returns a float for scalar input.
 
 Modules: :mod:`~photolib.optics._thin_lens` (imaging equation, angles, f-number, depth of
-field), :mod:`~photolib.optics._diffraction` (Bessel J_n, Airy pattern),
+field), :mod:`~photolib.optics._diffraction` (Bessel J_n, Airy pattern, edge and grating),
 :mod:`~photolib.optics._refraction` (Snell, reflection, dispersion),
 :mod:`~photolib.optics._vignetting` (cos⁴ law) and :mod:`~photolib.optics._stereo_acuity`;
 every name is importable from :mod:`photolib.optics`.
@@ -23,6 +23,10 @@ from photolib.optics._diffraction import (
     airy_psf,
     airy_radius,
     bessel_jn,
+    edge_diffraction,
+    edge_first_fringe,
+    grating_angles,
+    grating_intensity,
 )
 from photolib.optics._refraction import (
     C_LINE,
@@ -67,6 +71,10 @@ __all__ = [
     "airy_psf",
     "airy_radius",
     "bessel_jn",
+    "edge_diffraction",
+    "edge_first_fringe",
+    "grating_angles",
+    "grating_intensity",
     "blur_diameter",
     "chromatic_focal_shift",
     "critical_angle",

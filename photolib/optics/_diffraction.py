@@ -185,3 +185,185 @@ def airy_encircled_energy(r, wavelength, k):
     """
     v = _airy_v(r, wavelength, k)
     return _out(1.0 - np.asarray(bessel_jn(0, v)) ** 2 - np.asarray(bessel_jn(1, v)) ** 2)
+
+
+# -- diffraction at a straight edge and at a grating ----------------------------------------------
+
+def edge_diffraction(x, wavelength, distance):
+    """Fresnel diffraction behind a straight edge (Beugung an einer Kante): I(x)/I₀.
+
+    A plane wave falls on an opaque half-plane; the intensity is observed on a screen at
+    ``distance`` behind it, at ``x`` from the geometric shadow line (x > 0 on the lit side,
+    x < 0 in the shadow). Unobstructed light has I₀ = 1.
+
+    Parameters
+    ----------
+    x : float or array_like
+        Distance from the geometric shadow line on the screen, finite, same unit as
+        ``wavelength`` and ``distance`` (µm in the course's examples).
+    wavelength : float or array_like
+        Wavelength λ (Wellenlänge), > 0, finite.
+    distance : float or array_like
+        Distance z of the screen behind the edge, > 0, finite.
+
+    Returns
+    -------
+    float or ndarray
+        Relative intensity I/I₀, dimensionless: 1/4 on the shadow line, falling
+        monotonically into the shadow, oscillating on the lit side about 1 with the first
+        maximum 1.37 at w = 1.22; the broadcast shape of the inputs.
+
+    Notes
+    -----
+    With the Fresnel integrals C, S and the dimensionless :math:`w = x\\sqrt{2/(\\lambda z)}`
+    (:func:`photolib.derive.optics.edge_intensity` derives it from the Fresnel–Kirchhoff
+    integral over the open half-plane):
+
+    .. math:: \\frac{I}{I_0} = \\tfrac12\\Big[\\big(\\tfrac12 + C(w)\\big)^2
+              + \\big(\\tfrac12 + S(w)\\big)^2\\Big]
+
+    Examples
+    --------
+    >>> edge_diffraction(0.0, 0.55, 1e6)        # on the shadow line: a quarter of the light
+    0.25
+    >>> round(edge_diffraction(1.2172 * (0.55 * 1e6 / 2) ** 0.5, 0.55, 1e6), 3)  # first fringe
+    1.37
+    """
+    from scipy.special import fresnel
+
+    x = _finite(_array(x, "x"), "x")
+    lam = _finite(_array(wavelength, "wavelength", positive=True), "wavelength")
+    z = _finite(_array(distance, "distance", positive=True), "distance")
+    S, C = fresnel(x * np.sqrt(2.0 / (lam * z)))
+    return _out(0.5 * ((0.5 + C) ** 2 + (0.5 + S) ** 2))
+
+
+def edge_first_fringe(wavelength, distance):
+    """Distance of the first bright fringe from the shadow line behind a straight edge.
+
+    Parameters
+    ----------
+    wavelength, distance : float or array_like
+        λ and the screen distance z, > 0, finite, one length unit.
+
+    Returns
+    -------
+    float or ndarray
+        ``x₁ = w₁·√(λz/2)`` in the unit of the inputs, with w₁ = 1.2172 the first root of
+        ``dI/dw = (½ + C)·cos(πw²/2) + (½ + S)·sin(πw²/2) = 0`` (solved here, not tabulated).
+
+    Examples
+    --------
+    >>> round(edge_first_fringe(0.55, 1e6), 1)  # µm: λ = 550 nm, screen 1 m behind
+    638.3
+    """
+    lam = _finite(_array(wavelength, "wavelength", positive=True), "wavelength")
+    z = _finite(_array(distance, "distance", positive=True), "distance")
+    return _out(_first_fringe_w() * np.sqrt(lam * z / 2.0))
+
+
+def _first_fringe_w() -> float:
+    from scipy.optimize import brentq
+    from scipy.special import fresnel
+
+    def slope(w):
+        S, C = fresnel(w)
+        return (0.5 + C) * np.cos(np.pi * w * w / 2) + (0.5 + S) * np.sin(np.pi * w * w / 2)
+    return float(brentq(slope, 0.5, 1.6, xtol=1e-15))
+
+
+def grating_angles(pitch, wavelength, orders):
+    """Directions of the diffraction orders of a grating (Beugungsgitter), in radians.
+
+    Parameters
+    ----------
+    pitch : float
+        Grating period d (Gitterkonstante), > 0, finite, same unit as ``wavelength``.
+    wavelength : float
+        Wavelength λ, > 0, finite.
+    orders : int or array_like of int
+        Orders m (0, ±1, ±2 …) at normal incidence.
+
+    Returns
+    -------
+    float or ndarray
+        θ_m = arcsin(m·λ/d), radians, the shape of ``orders``.
+
+    Raises
+    ------
+    ValueError
+        For an order that does not exist, |m|·λ > d (it would leave at more than 90°); the
+        message names the order and the highest one that exists.
+
+    Notes
+    -----
+    Neighbouring slits send waves whose path difference is d·sin θ; they add in phase for
+    d·sin θ = m·λ (:func:`photolib.derive.optics.grating_maxima`).
+
+    Examples
+    --------
+    >>> round(float(np.degrees(grating_angles(1.6, 0.55, 1))), 3)   # µm: a 1.6 µm grating
+    20.106
+    """
+    d = float(_finite(_array(pitch, "pitch d", positive=True), "pitch d"))
+    lam = float(_finite(_array(wavelength, "wavelength", positive=True), "wavelength"))
+    m = np.asarray(orders)
+    if m.dtype.kind not in "iu" and not (m.dtype.kind == "f" and np.all(m == np.round(m))):
+        raise ValueError(f"orders must be integers, got {orders!r}")
+    s = m * lam / d
+    if np.any(np.abs(s) > 1.0):
+        top = int(np.floor(d / lam))
+        bad = int(np.ravel(m)[np.argmax(np.abs(np.ravel(s)) > 1.0)])
+        raise ValueError(f"order m = {bad} does not exist for d = {d:g} and λ = {lam:g}: "
+                         f"|m|·λ/d = {abs(bad) * lam / d:.4g} > 1; the highest order is {top}")
+    return _out(np.arcsin(s))
+
+
+def grating_intensity(theta, wavelength, pitch, slit_width, n_slits):
+    """Fraunhofer pattern of N slits of width a and period d, normalised to 1 at θ = 0.
+
+    Parameters
+    ----------
+    theta : float or array_like
+        Direction θ from the grating normal, radians, finite.
+    wavelength, pitch, slit_width : float
+        λ, the period d and the slit width a (0 < a ≤ d), > 0, one length unit.
+    n_slits : int
+        Number of slits N ≥ 1.
+
+    Returns
+    -------
+    float or ndarray
+        I(θ)/I(0), dimensionless, the shape of ``theta``.
+
+    Notes
+    -----
+    .. math:: \\frac{I}{I_0} = \\operatorname{sinc}^2\\beta\\,
+              \\left(\\frac{\\sin N\\gamma}{N\\sin\\gamma}\\right)^2,\\quad
+              \\beta = \\frac{\\pi a\\sin\\theta}{\\lambda},\\;
+              \\gamma = \\frac{\\pi d\\sin\\theta}{\\lambda}
+
+    the single-slit envelope times the array factor |Σ e^{i n δ}|² = sin²(Nδ/2)/sin²(δ/2)
+    with δ = 2γ (:func:`photolib.derive.optics.grating_array_factor`).
+
+    Examples
+    --------
+    >>> round(grating_intensity(grating_angles(1.6, 0.55, 1), 0.55, 1.6, 0.4, 10), 4)
+    0.8106
+    """
+    from photolib._validate import as_int
+
+    th = _finite(_array(theta, "theta"), "theta")
+    lam = float(_finite(_array(wavelength, "wavelength", positive=True), "wavelength"))
+    d = float(_finite(_array(pitch, "pitch d", positive=True), "pitch d"))
+    a = float(_finite(_array(slit_width, "slit width a", positive=True), "slit width a"))
+    n = as_int(n_slits, "number of slits N", minimum=1)
+    if a > d:
+        raise ValueError(f"slit width a = {a:g} is larger than the period d = {d:g}")
+    beta = np.pi * a * np.sin(th) / lam
+    gamma = np.pi * d * np.sin(th) / lam
+    envelope = np.sinc(beta / np.pi) ** 2
+    sg = np.sin(gamma)
+    near = np.abs(sg) < 1e-12                   # a principal maximum: the limit is 1
+    factor = np.where(near, 1.0, np.sin(n * gamma) / (n * np.where(near, 1.0, sg))) ** 2
+    return _out(envelope * factor)

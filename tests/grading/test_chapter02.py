@@ -187,3 +187,42 @@ def test_stop_down_variant_does_not_carry_the_answer():
         assert ex.reference(p) == right
         letters.add(right)
     assert len(letters) > 1                       # the correct letter moves between students
+
+
+# -- the grating and the edge: references by independent routes ----------------------------------
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_grating_order_is_where_the_phasors_add_in_phase(sid):
+    """θ_m found as the root of the phase step minus 2πm (scipy.optimize), not by arcsin."""
+    ex = BY_ID["opt.grating-order"]
+    p = parameters_for(ex, sid)
+    lam, d = p["lambda_nm"] * 1e-3, p["d_um"]
+    theta = optimize.brentq(lambda t: 2 * math.pi * d * math.sin(t) / lam - 2 * math.pi * p["m"],
+                            0.0, math.pi / 2)
+    assert ex.reference(p) == pytest.approx(math.degrees(theta), abs=1e-9)
+    rounded = round(ex.reference(p), 2)                    # the precision the task asks for
+    assert _judge(ex, sid, rounded).correct
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_the_highest_order_is_the_last_real_direction(sid):
+    ex = BY_ID["opt.grating-highest"]
+    p = parameters_for(ex, sid)
+    existing = [m for m in range(0, 50) if m * p["lambda_nm"] * 1e-3 / p["d_um"] <= 1.0]
+    assert ex.reference(p) == max(existing)
+    assert parameters_for(BY_ID["opt.grating-order"], sid) == p       # one scenario, one draw
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_edge_fringe_is_the_first_maximum_of_the_fresnel_pattern(sid):
+    """The first maximum of ½[(½ + C)² + (½ + S)²] located by a dense scan of SciPy's
+    Fresnel integrals, in µm."""
+    ex = BY_ID["opt.edge-fringe"]
+    p = parameters_for(ex, sid)
+    lam, z = p["lambda_nm"] * 1e-3, p["z_mm"] * 1e3
+    w = np.linspace(0.0, 2.0, 2_000_001)
+    S, C = special.fresnel(w)
+    intensity = 0.5 * ((0.5 + C) ** 2 + (0.5 + S) ** 2)
+    w1 = w[np.argmax(intensity)]
+    assert ex.reference(p) == pytest.approx(w1 * math.sqrt(lam * z / 2), rel=2e-6)
+    assert _judge(ex, sid, float(f"{ex.reference(p):.3g}")).correct     # 3 significant digits

@@ -7,13 +7,17 @@
 * ``opt.snell`` (number): angle of refraction in degrees;
 * ``opt.vignetting-corner`` (number): natural vignetting cos⁴τ at the corner of the format;
 * ``opt.dof-limit`` (expression): a depth-of-field limit or the depth, derived with SymPy;
-* ``opt.stop-down`` (choice): what stopping down does to depth of field and diffraction.
+* ``opt.stop-down`` (choice): what stopping down does to depth of field and diffraction;
+* ``opt.grating-order`` and ``opt.grating-highest`` (numbers, two steps of one scenario): the
+  direction of a grating's order m, and the highest order that exists;
+* ``opt.edge-fringe`` (number): the first bright fringe behind a straight edge, in µm.
 
 References come from :mod:`photolib.optics` and :mod:`photolib.derive.optics`.
 
 >>> [ex.id for ex in EXERCISES]  # doctest: +NORMALIZE_WHITESPACE
 ['opt.image-distance', 'opt.depth-of-field', 'opt.airy-radius', 'opt.snell',
- 'opt.vignetting-corner', 'opt.dof-limit', 'opt.stop-down']
+ 'opt.vignetting-corner', 'opt.dof-limit', 'opt.stop-down', 'opt.grating-order',
+ 'opt.grating-highest', 'opt.edge-fringe']
 """
 
 from __future__ import annotations
@@ -327,5 +331,107 @@ stop_down = Exercise(
     ))
 
 
+# -- 8./9. a grating, two steps (numbers) ---------------------------------------------------------
+def _grating_params(rng):
+    """A transmission grating of 300–1200 lines/mm, visible light, an order that exists."""
+    while True:
+        lines = int(rng.choice([300, 400, 500, 600, 800, 1000, 1200]))
+        d_um = round(1000.0 / lines, 4)
+        lam_nm = float(rng.integers(400, 701))
+        top = math.floor(d_um * 1000.0 / lam_nm)
+        if top >= 1:
+            break
+    m = int(rng.integers(1, top + 1))
+    return {"lines_per_mm": lines, "d_um": d_um, "lambda_nm": lam_nm, "m": m}
+
+
+def _grating_angle(p, m=None, func=math.asin, lam_factor=1e-3):
+    return math.degrees(func((p["m"] if m is None else m) * p["lambda_nm"] * lam_factor
+                             / p["d_um"]))
+
+
+def _grating_top(p):
+    return float(math.floor(p["d_um"] * 1000.0 / p["lambda_nm"]))
+
+
+grating_order = Exercise(
+    params_name="p_grating", scenario="opt.grating-order",
+    id="opt.grating-order", points=2, kind="number", answer="theta_m_deg",
+    title="Step 1 of 2: a grating's order / Beugungsordnung eines Gitters",
+    statement="A transmission grating (Beugungsgitter) has {lines_per_mm} lines per mm, i.e. the "
+              "period $d = {d_um}$ µm. Light of $\\lambda = {lambda_nm:.0f}$ nm falls on it at "
+              "normal incidence. In which direction $\\theta_m$ from the normal does the order "
+              "$m = {m}$ leave? Give $\\theta_m$ in degrees to 0.01°.",
+    # to 0.01°: the rounded answer is within 0.005° (and a float's rounding) of the value
+    parameters=_grating_params, reference=_grating_angle, rtol=0.0, atol=0.0051,
+    exact=("d_um", "lambda_nm"),     # a grating's period and a line's wavelength, as given
+    mistakes=(
+        Mistake("degrees", "that is θ in radians; the question asks for degrees "
+                           "(numpy.degrees)", lambda p: math.radians(_grating_angle(p))),
+        Mistake("order", "that is the first order; the grating equation is d·sin θ = m·λ "
+                         "with the order asked for", lambda p: None if p["m"] == 1 else
+                _grating_angle(p, m=1)),
+        Mistake("tan", "the path difference of neighbouring slits is d·sin θ, not d·tan θ: "
+                       "θ = arcsin(m·λ/d)", lambda p: _grating_angle(p, func=math.atan)),
+        Mistake("cos", "θ is measured from the normal: the path difference is d·sin θ "
+                       "(arcsin), not d·cos θ", lambda p: _grating_angle(p, func=math.acos)),
+    ))
+
+
+grating_highest = Exercise(
+    params_name="p_grating_top", scenario="opt.grating-order",
+    id="opt.grating-highest", points=1, kind="number", answer="m_max",
+    title="Step 2 of 2: the highest order / die höchste Ordnung",
+    statement="The same grating ($d = {d_um}$ µm) and light ($\\lambda = {lambda_nm:.0f}$ nm). "
+              "What is the highest order $m_{{max}}$ that leaves the grating at all (an integer)?",
+    parameters=_grating_params, reference=_grating_top, rtol=0.0, atol=1e-9,
+    exact=("d_um", "lambda_nm"),
+    few_variants="the answer is an integer order: d/λ of visible light (400–700 nm) and "
+                 "300–1200 lines/mm takes only the values 1 to 8",
+    mistakes=(
+        Mistake("rounded", "an order exists only where |sin θ| = m·λ/d ≤ 1: round d/λ down, "
+                           "not to the nearest integer",
+                lambda p: None if round(p["d_um"] * 1000.0 / p["lambda_nm"]) == _grating_top(p)
+                else float(round(p["d_um"] * 1000.0 / p["lambda_nm"]))),
+        Mistake("count", "that counts the orders on both sides and the zeroth (2·m_max + 1); "
+                         "the question asks for the highest m",
+                lambda p: 2 * _grating_top(p) + 1),
+    ))
+
+
+# -- 10. the first fringe behind an edge (number) -------------------------------------------------
+def _fringe_params(rng):
+    return {"lambda_nm": float(rng.integers(400, 701)),
+            "z_mm": float(rng.choice([0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0, 500.0]))}
+
+
+def _fringe(p, scale=0.5):
+    """x₁ = w₁·√(λz/2) in µm, w₁ the first root of dI/dw (photolib.optics)."""
+    import photolib.optics as po
+
+    return float(po.edge_first_fringe(p["lambda_nm"] * 1e-3, p["z_mm"] * 1e3)
+                 * math.sqrt(scale / 0.5))
+
+
+edge_fringe = Exercise(
+    params_name="p_edge",
+    id="opt.edge-fringe", points=2, kind="number", answer="x1_um",
+    title="Diffraction at an edge / Beugung an einer Kante",
+    statement="A plane wave of $\\lambda = {lambda_nm:.0f}$ nm passes a straight opaque edge "
+              "(Kante). How far from the geometric shadow line lies the first bright fringe on a "
+              "screen $z = {z_mm}$ mm behind the edge? Use the Fresnel approximation: "
+              "$w = x\\sqrt{{2/(\\lambda z)}}$, the first fringe at $w_1 = 1.2172$. Give $x_1$ "
+              "in µm to 3 significant digits.",
+    # 3 significant digits: half a unit of the third digit is at most 0.5/100 of the value
+    parameters=_fringe_params, reference=_fringe, rtol=5.1e-3, atol=0.0,
+    exact=("lambda_nm", "z_mm"),     # the wavelength and the distance as given
+    mistakes=(
+        Mistake("factor-2", "w = x·√(2/(λz)), so x₁ = w₁·√(λz/2): the 2 belongs under λz in "
+                            "the denominator", lambda p: _fringe(p, scale=2.0)),
+        Mistake("factor-2", "w = x·√(2/(λz)), so x₁ = w₁·√(λz/2), not w₁·√(λz)",
+                lambda p: _fringe(p, scale=1.0)),
+    ))
+
+
 EXERCISES = (image_distance, depth_of_field, airy_radius, snell, vignetting_corner, dof_limit,
-             stop_down)
+             stop_down, grating_order, grating_highest, edge_fringe)
