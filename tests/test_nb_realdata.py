@@ -57,3 +57,17 @@ def test_figures(cal):
     import matplotlib.pyplot as plt
     plt.close(fig)
     plt.close(fig2)
+
+
+def test_plot_corner_marks_the_corner_and_names_a_bad_view(capsys):
+    from photolib.grading.notebook import NoParameters
+    from photolib.nb import realdata as rd
+
+    fig = rd.plot_corner("left05.jpg", 559.32, 364.66)
+    whole, zoom = fig.axes[:2]
+    assert whole.lines[0].get_xdata()[0] == 559.32
+    assert zoom.get_xlim() == (559.32 - 24, 559.32 + 24)
+    with pytest.raises(ValueError, match="left99.jpg"):
+        rd.plot_corner("left99.jpg", 1.0, 1.0)
+    assert rd.show_task_corner(NoParameters("io.real-corner")) is None
+    assert "STUDENT_ID is empty" in capsys.readouterr().out

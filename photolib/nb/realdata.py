@@ -32,6 +32,8 @@ __all__ = [
     "detect_corners",
     "interior_rows",
     "opencv_radial_distortion",
+    "plot_corner",
+    "show_task_corner",
     "plot_real_distortion",
     "plot_real_residuals",
     "radial_comparison",
@@ -234,6 +236,47 @@ def ray_difference(cal: ChessboardCalibration, step: int = 20) -> dict:
     d = np.hypot(*(ours - theirs).T) * res.c
     return {"max_px": float(d.max()), "rms_px": float(np.sqrt(np.mean(d**2))),
             "pixels": px, "difference_px": d}
+
+
+def plot_corner(file: str, col: float, row: float, half: int = 24):
+    """A chessboard view with one measured corner: the whole image and a zoom on the corner.
+
+    ``file`` is a view of :func:`photolib.data.chessboard` (``"left05.jpg"``), ``col, row`` the
+    corner in px (pixel centres at integers, row down), ``half`` the zoom's half width in px.
+    """
+    import matplotlib.pyplot as plt
+
+    cb = pdata.chessboard()
+    if file not in cb.files:
+        raise ValueError(f"no view {file!r} in the chessboard set; views: {list(cb.files)}")
+    image = cb.images[list(cb.files).index(file)]
+    fig, (whole, zoom) = plt.subplots(1, 2, figsize=(8.0, 3.2),
+                                      gridspec_kw={"width_ratios": (1.5, 1)})
+    whole.imshow(image, cmap="gray")
+    whole.plot([col], [row], "+", color="#d62728", ms=14, mew=2)
+    whole.add_patch(plt.Rectangle((col - half, row - half), 2 * half, 2 * half, fill=False,
+                                  color="#ff7f0e", lw=1))
+    whole.set(title=f"{file}: the corner at ({col:.2f}, {row:.2f}) px", xlabel="col [px]",
+              ylabel="row [px]")
+    zoom.imshow(image, cmap="gray", interpolation="nearest")
+    zoom.plot([col], [row], "+", color="#d62728", ms=18, mew=1.5)
+    zoom.set(xlim=(col - half, col + half), ylim=(row + half, row - half),
+             title=f"zoom ±{half} px: pixel centres at integers", xlabel="col [px]")
+    fig.tight_layout()
+    return finished(fig)
+
+
+def show_task_corner(params):
+    """:func:`plot_corner` of a task's numbers (``p_corner = task("io.real-corner")``).
+
+    While ``STUDENT_ID`` is empty the task issues no numbers: one line says so, no figure.
+    """
+    from photolib.grading.notebook import NO_STUDENT_ID, NoParameters
+
+    if type(params) is NoParameters:
+        print(f"no image to show: {NO_STUDENT_ID}")
+        return None
+    return plot_corner(params["file"], params["col"], params["row"])
 
 
 def plot_real_residuals(cal: ChessboardCalibration, scale: float = 100.0):

@@ -4,7 +4,10 @@
 * ``io.radial-factor`` (expression): the radial distortion model written with SymPy;
 * ``io.image-vector`` (array): a measured point corrected into the image vector x*;
 * ``io.measured-position`` (function): where an ideal image point is measured (iteration);
-* ``io.plumb-line`` (array): A1 and its σ from a plumb-line calibration (Plumblines).
+* ``io.plumb-line`` (array): A1 and its σ from a plumb-line calibration (Plumblines);
+* ``io.real-corner`` and ``io.real-distortion`` (arrays, two steps of one scenario on the real
+  chessboard images of mvtb-data): a measured corner in the course's image frame, then this
+  real lens's distortion there, from the chapter's self-calibration.
 
 Course conventions (docs/conventions.md): c > 0, ``x* = (x' − x'0 − Δx', y' − y'0 − Δy', −c)``,
 ``Δ = distorted − ideal`` evaluated at the **measured** point reduced to the principal point.
@@ -341,4 +344,110 @@ plumb_line_exercise = Exercise(
     ))
 
 
-EXERCISES = (field_angle, radial_factor, image_vector, measured_position, plumb_line_exercise)
+# -- 6./7. a real corner of the chessboard camera, two steps (arrays) -----------------------------
+#: the terms of the chapter's real calibration as printed in the task (4 significant digits)
+_REAL_TERMS = ("A1", "A2", "A3", "B1", "B2")
+
+
+def _real_data():
+    """The chessboard views, their corners (photolib.nb.realdata.detect_corners, OpenCV's
+    cornerSubPix as the measuring tool) and the chapter's self-calibration (cached)."""
+    from photolib.nb import realdata as rd
+
+    cal = rd.chessboard_calibration()
+    return cal
+
+
+def _real_params(rng):
+    """A view of left01–14 and one of its 54 corners, as measured; the chapter's calibration."""
+    cal = _real_data()
+    view = int(rng.integers(0, len(cal.corners)))
+    k = int(rng.integers(0, len(cal.corners[view])))
+    col, row = (round(float(v), 2) for v in cal.corners[view][k])
+    res = cal.result
+    p = {"file": cal.files[view], "corner": k, "col": col, "row": row,
+         "width": cal.width, "height": cal.height,
+         "x0": round(float(res.x0), 2), "y0": round(float(res.y0), 2)}
+    for term in _REAL_TERMS:
+        p[term] = _sig(res.distortion.params[term])
+    return p
+
+
+def _real_image(p, centre=None, flip=True, swap=False):
+    """``x' = col − (W − 1)/2``, ``y' = (H − 1)/2 − row`` (px; the course's pixel frame)."""
+    col, row = (p["row"], p["col"]) if swap else (p["col"], p["row"])
+    cx, cy = centre if centre is not None else ((p["width"] - 1) / 2, (p["height"] - 1) / 2)
+    return np.array([col - cx, (cy - row) if flip else (row - cy)])
+
+
+def _real_delta(p, reduce=True, tangential=True, swap_b=False):
+    """Δ = (Δx', Δy') (px) at the measured point reduced to the principal point."""
+    import photolib as pl
+
+    xy = _real_image(p) - (np.array([p["x0"], p["y0"]]) if reduce else 0.0)
+    b1, b2 = (p["B2"], p["B1"]) if swap_b else (p["B1"], p["B2"])
+    dist = pl.Distortion(A1=p["A1"], A2=p["A2"], A3=p["A3"],
+                         B1=b1 if tangential else 0.0, B2=b2 if tangential else 0.0)
+    return dist.delta(xy)
+
+
+_REAL_FRAME = ("the course's image frame has its origin at the image centre, x′ to the right "
+               "and y′ **up**: x′ = col − (W − 1)/2, y′ = (H − 1)/2 − row")
+
+real_corner = Exercise(
+    params_name="p_corner", scenario="io.real-corner",
+    id="io.real-corner", points=2, kind="array", answer="xy_corner",
+    title="Step 1 of 2: a real corner in the image frame / eine echte Ecke im Bildsystem",
+    statement="In the real chessboard image `{file}` ({width} × {height} px, mvtb-data) the "
+              "chapter measured corner number {corner} at $(col, row) = ({col:.2f}, {row:.2f})$ px "
+              "(pixel centres at integers, row downwards). Give its image coordinates "
+              "$(x', y')$ in px in the course's frame (origin at the image centre, $x'$ right, "
+              "$y'$ up) as a NumPy array, to 0.01 px.",
+    parameters=_real_params, reference=_real_image, rtol=0.0, atol=0.0051,
+    exact=("x0", "y0", "A1", "A2", "A3", "B1", "B2"),
+    mistakes=(
+        Mistake("y-down", "y′ points up: " + _REAL_FRAME, lambda p: _real_image(p, flip=False)),
+        Mistake("centre", "the centre of a 640-px row lies between pixels 319 and 320, at "
+                          "(W − 1)/2 = 319.5 when pixel centres are integers",
+                lambda p: _real_image(p, centre=(p["width"] / 2, p["height"] / 2))),
+        Mistake("swapped", "col is the horizontal coordinate (x′), row the vertical (y′)",
+                lambda p: _real_image(p, swap=True)),
+    ))
+
+real_distortion = Exercise(
+    params_name="p_corner_distortion", scenario="io.real-corner",
+    id="io.real-distortion", points=3, kind="array", answer="delta_corner",
+    title="Step 2 of 2: the real lens's distortion there / die Verzeichnung des echten Objektivs",
+    statement="The same corner lies at $(x', y') = ({xy_corner_x:.2f}, {xy_corner_y:.2f})$ px "
+              "(step 1). The chapter's self-calibration of this lens gives the principal point "
+              "$(x'_0, y'_0) = ({x0:.2f}, {y0:.2f})$ px and the distortion terms (Seidel, "
+              "$r_0 = 0$, and Brown's tangential terms) $A_1 = {A1:.3e}$ px⁻², "
+              "$A_2 = {A2:.3e}$ px⁻⁴, $A_3 = {A3:.3e}$ px⁻⁶, $B_1 = {B1:.3e}$ px⁻¹, "
+              "$B_2 = {B2:.3e}$ px⁻¹. Compute the distortion $(\\Delta x', \\Delta y')$ at this "
+              "corner (course model, evaluated at the measured point reduced to the principal "
+              "point) as a NumPy array in px, to 0.01 px.",
+    parameters=lambda rng: _with_corner(_real_params(rng)), reference=_real_delta,
+    rtol=0.0, atol=0.0051, exact=("x0", "y0", "A1", "A2", "A3", "B1", "B2"),
+    mistakes=(
+        Mistake("centre", "the distortion is a function of the coordinates reduced to the "
+                          "principal point, x̄ = x′ − x′0, ȳ = y′ − y′0, not of the "
+                          "coordinates from the image centre",
+                lambda p: _real_delta(p, reduce=False)),
+        Mistake("tangential", "the model has tangential terms too: Δx′ += B1(r² + 2x̄²) + "
+                              "2B2·x̄ȳ, Δy′ += B2(r² + 2ȳ²) + 2B1·x̄ȳ",
+                lambda p: _real_delta(p, tangential=False)),
+        Mistake("swapped", "B1 goes with r² + 2x̄² in Δx′ and B2 with r² + 2ȳ² in Δy′",
+                lambda p: _real_delta(p, swap_b=True)),
+        Mistake("sign-distortion", _SIGN_DISTORTION + "; Δ itself is distorted − ideal",
+                lambda p: -_real_delta(p)),
+    ))
+
+
+def _with_corner(p):
+    """Step 2 carries step 1's correct result (so a wrong step 1 does not cost step 2)."""
+    x, y = _real_image(p)
+    return {**p, "xy_corner_x": round(float(x), 2), "xy_corner_y": round(float(y), 2)}
+
+
+EXERCISES = (field_angle, radial_factor, image_vector, measured_position, plumb_line_exercise,
+             real_corner, real_distortion)
