@@ -14,6 +14,9 @@ commands:
   check-formula  check a typed formula against a catalogue record
   assign         generate the student copies in exercises/ from solutions/
   grade          grade submitted notebooks into a gradebook
+  collect        gather one chapter's notebooks from the students' folders (JupyterHub)
+  return         put each feedback file into its student's folder, owned by the student
+  export         the gradebook as Moodle's or Canvas's grade-import CSV
   codegen        regenerate photolib/_generated from photolib/derive"""
 
 #: command -> "module:function" taking argv (list of str) and returning an exit code
@@ -22,6 +25,9 @@ COMMANDS = {
     "check-formula": "photolib.errata.cli:check_formula_main",
     "assign": "photolib.grading.cli:assign_main",
     "grade": "photolib.grading.cli:grade_main",
+    "collect": "photolib.grading.classroom:collect_main",
+    "return": "photolib.grading.classroom:return_main",
+    "export": "photolib.grading.classroom:export_main",
     "codegen": "photolib.codegen:main",
 }
 
