@@ -25,6 +25,11 @@ from photolib.nb.live import Explorer, LiveFigure, finished, slider
 from photolib.nb.text import matrix_html
 
 __all__ = [
+    "dtm_iteration",
+    "plot_collinearity_geometry",
+    "plot_convergence",
+    "plot_dtm_iteration",
+    "resection_history",
     "HALF",
     "FootprintExplorer",
     "ProjectionExplorer",
@@ -330,4 +335,170 @@ def plot_projection(X0, R, c, x0=0.0, y0=0.0, distortion=None, title="image / Bi
     ax.set(xlim=(-24, 24), ylim=(-16, 16), aspect="equal", xlabel="x' [mm]", ylabel="y' [mm]",
            title=title)
     fig.subplots_adjust(0.0, 0.14, 0.98, 0.92, wspace=0.32)
+    return finished(fig)
+
+
+# -- derivation, inverse on a height and on a DTM, linearisation (chapter 06 rewrite) ----------
+
+def plot_collinearity_geometry():
+    """Side view of the collinearity condition: projection centre O, the image plane at
+    distance c behind it (negative image, z' = −c) and in front (positive), image point P',
+    object point P on one straight line; X − X0 = m·R·x*.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.4, 3.8))
+    O, P, c = np.array([0.0, 5.0]), np.array([4.5, 0.3]), 1.3
+    d = P - O
+    Pn = O - d * c / abs(d[1])                     # on the negative image plane, z' = −c
+    Pp = O + d * c / abs(d[1])                     # on the positive (mirrored) plane
+    ax.plot([-3.5, 6.2], [0.0, 0.0], color="#8c564b", lw=1)
+    ax.text(6.1, -0.45, "object space / Objektraum", ha="right", fontsize=8, color="#8c564b")
+    ax.plot([-2.2, 1.0], [O[1] + c] * 2, color="0.3", lw=1.6)
+    ax.plot([-1.0, 2.2], [O[1] - c] * 2, color="0.65", lw=1, ls="--")
+    ax.text(1.1, O[1] + c - 0.05, "image plane, z' = −c", fontsize=7, color="0.3", va="center")
+    ax.text(-3.5, O[1] - c - 0.05, "positive image (mirrored)", fontsize=7, color="0.5",
+            va="center")
+    ax.plot(*np.column_stack([Pn, P]), color="#1f77b4", lw=1.2)
+    ax.plot([O[0], O[0]], [0.0, O[1] + c], color="0.55", lw=0.8, ls=":")
+    ax.plot([O[0], O[0]], [O[1], O[1] + c], color="#9467bd", lw=2.2)
+    ax.text(0.08, O[1] + 0.45, "c", color="#9467bd", fontsize=10)
+    for pt in (O, Pn, Pp, P, np.array([O[0], O[1] + c])):
+        ax.plot(*pt, "o", color="k", ms=4)
+    ax.text(Pn[0] - 0.2, Pn[1] + 0.3, "P' = (x', y')", fontsize=8, ha="center")
+    ax.text(0.05, O[1] + c + 0.3, "H' = (x'0, y'0)", fontsize=8)
+    ax.text(0.3, O[1] - 0.15, "O = X0, projection centre", fontsize=8)
+    ax.text(P[0] - 0.2, P[1] + 0.3, "P = X", fontsize=8, ha="right")
+    ax.text(-3.5, 6.9, "x* = (x' − x'0, y' − y'0, −c)  (camera frame)", color="#2ca02c",
+            fontsize=8)
+    ax.annotate("", xy=Pn, xytext=O, arrowprops={"arrowstyle": "->", "color": "#2ca02c",
+                                                 "lw": 1.5})
+    ax.text(2.7, 2.6, "X − X0 = m·R·x*\nm > 0: in front", color="#d62728", fontsize=8)
+    ax.annotate("", xy=P, xytext=O, arrowprops={"arrowstyle": "->", "color": "#d62728",
+                                                "lw": 1.0, "shrinkA": 0, "shrinkB": 3})
+    ax.set(xlim=(-3.6, 6.3), ylim=(-0.7, 7.3), aspect="equal")
+    ax.axis("off")
+    ax.set_title("collinearity / Kollinearität: P', O and P on one straight line", fontsize=9)
+    return finished(fig)
+
+
+def dtm_iteration(xy, X0, R, c, surface, Z_start=None, steps=6):
+    """Points of the monoplotting iteration on a surface (:func:`photolib.monoplot_dtm`).
+
+    Returns
+    -------
+    dict
+        ``heights`` (k + 1,) plane heights Z_0 … Z_k, ``points`` (k + 1, 3) the ray's points
+        on these planes, ``X`` the converged point.
+
+    Examples
+    --------
+    >>> it = dtm_iteration([30.0, 0.0], [0.0, 0.0, 1000.0], np.eye(3), 100.0,
+    ...                    lambda XY: 0.2 * XY[:, 0], Z_start=0.0, steps=3)
+    >>> np.round(it["heights"], 3).tolist()            # each step shrinks the error by 0.06
+    [0.0, 60.0, 56.4, 56.616]
+    """
+    X0 = np.asarray(X0, float)
+    _, hist = pl.monoplot_dtm(xy, X0, R, c, surface, Z_start=Z_start, tol=1e-9,
+                              return_iterations=True)
+    heights = hist[: steps + 1, 0]
+    points = np.vstack([pl.monoplot(xy, X0, R, c, Z=z) for z in heights])
+    X = pl.monoplot_dtm(xy, X0, R, c, surface, Z_start=Z_start, tol=1e-9)
+    return {"heights": heights, "points": points, "X": X}
+
+
+def plot_dtm_iteration(xy, X0, R, c, surface, Z_start=None, steps=6, profile=None):
+    """Profile (X, Z) along the ray: terrain, ray, the planes Z_k and the points of the
+    iteration converging to the surface point."""
+    import matplotlib.pyplot as plt
+
+    it = dtm_iteration(xy, X0, R, c, surface, Z_start, steps)
+    X0 = np.asarray(X0, float)
+    d = it["X"][:2] - X0[:2]
+    u = d / np.linalg.norm(d)
+    reach = (it["points"][:, :2] - X0[:2]) @ u
+    s_end = 1.15 * max(float(reach.max()), float(np.linalg.norm(d)))
+    s = np.linspace(-0.15 * s_end, s_end, 200)
+    terrain = surface(X0[:2] + s[:, None] * u)
+    fig, ax = plt.subplots(figsize=(6.4, 3.4))
+    ax.fill_between(s, terrain, terrain.min() - 20, color="#c7b299", alpha=0.6, lw=0)
+    ax.plot(s, terrain, color="#8c564b", lw=1.2, label="terrain Z = h(X, Y)")
+    along = (it["points"][:, :2] - X0[:2]) @ u
+    far = 1.05 * max(float(along.max()), float(np.linalg.norm(d))) / np.linalg.norm(d)
+    ax.plot([0.0, np.linalg.norm(d) * far], [X0[2], X0[2] + far * (it["X"][2] - X0[2])],
+            color="#1f77b4", lw=1, label="image ray")
+    for k, (z, a) in enumerate(zip(it["heights"], along)):
+        ax.plot([a - 0.08 * s_end, a + 0.08 * s_end], [z, z], color="0.5", lw=0.8)
+        ax.plot(a, z, "o", color="#d62728", ms=4)
+        if k < 4:
+            ax.annotate(f"Z{k}", (a + 0.09 * s_end, z), fontsize=7, va="center")
+        if k + 1 < len(along):
+            ax.plot([a, a], [z, it["heights"][k + 1]], color="#d62728", lw=0.7, ls=":")
+    ax.plot(np.linalg.norm(d), it["X"][2], "*", color="k", ms=9, label="surface point")
+    ax.plot(0.0, X0[2], "k^", label="projection centre")
+    lo = min(terrain.min(), it["heights"].min())
+    ax.set(xlabel="distance along the ray's plan direction [m]", ylabel="Z [m]",
+           ylim=(lo - 20, X0[2] + 40))
+    if profile is not None:
+        ax.set(ylim=profile)
+    ax.legend(fontsize=7, loc="upper right")
+    ax.set_title("monoplotting on a DTM: plane, height, plane again …", fontsize=9)
+    fig.tight_layout()
+    return finished(fig)
+
+
+def resection_history(X, xy, c, start, max_iter=12):
+    """Gauss–Newton iterates of the space resection from ``start`` (X0, Y0, Z0, ω, φ, κ):
+    the largest angle update (rad) of each iteration, NaN once it diverged (points behind the
+    camera, non-finite updates).
+
+    Examples
+    --------
+    >>> X = np.array([[0, 0, 0], [10, 0, 1], [0, 10, 2], [10, 10, 0], [5, 5, 4], [2, 8, 1.0]])
+    >>> xy = pl.project(X, [4.0, 6.0, 30.0], pl.rotation_opk(0.05, -0.1, 0.2), 24.0)
+    >>> h = resection_history(X, xy, 24.0, [5.0, 5.0, 25.0, 0.0, 0.0, 0.0], 8)
+    >>> bool(h[-1] < 1e-12)
+    True
+    """
+    q = np.asarray(start, float).copy()
+    out = np.full(max_iter, np.nan)
+    for k in range(max_iter):
+        R = pl.rotation_opk(*q[3:])
+        try:
+            v = pl.project(X, q[:3], R, c) - xy
+            A = pl.collinearity_jacobian(X, q[:3], R, c, angles=tuple(q[3:]))[:, :, :6]
+        except ValueError:
+            break
+        dq = np.linalg.lstsq(A.reshape(-1, 6), -v.reshape(-1), rcond=None)[0]
+        if not np.all(np.isfinite(dq)):
+            break
+        q = q + dq
+        out[k] = np.max(np.abs(dq[3:]))
+    return out
+
+
+def plot_convergence(X, xy, c, truth, errors_deg=(2.0, 10.0, 25.0, 40.0, 60.0), max_iter=12):
+    """Convergence of the linearised collinearity equations from start values whose angles
+    are off by ``errors_deg`` (all three) and whose centre is off by 20 % of the distance."""
+    import matplotlib.pyplot as plt
+
+    truth = np.asarray(truth, float)
+    fig, ax = plt.subplots(figsize=(5.6, 3.2))
+    colours = plt.cm.viridis(np.linspace(0.0, 0.9, len(errors_deg)))
+    for e, col in zip(errors_deg, colours):
+        start = truth + np.r_[0.2 * truth[2] * np.array([0.3, -0.3, 0.5]), np.radians([e, -e, e])]
+        h = resection_history(X, xy, c, start, max_iter)
+        ok = np.isfinite(h) & (h > 0)
+        converged = bool(ok.any() and np.nanmin(h) < 1e-10)
+        ax.semilogy(np.arange(1, max_iter + 1)[ok], h[ok], "o-", color=col, ms=3,
+                    label=f"angles off by {e:g}°" + ("" if converged else " (no convergence)"))
+    ax.axhline(1e-10, color="0.6", lw=0.8, ls=":")
+    ax.set(xlabel="iteration", ylabel="largest angle update [rad]", ylim=(1e-16, 10.0))
+    ax.legend(fontsize=7)
+    ax.set_title("Gauss–Newton from start values of different quality", fontsize=9)
+    fig.tight_layout()
     return finished(fig)
