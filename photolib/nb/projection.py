@@ -352,33 +352,33 @@ def plot_collinearity_geometry():
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(6.4, 3.8))
-    O, P, c = np.array([0.0, 5.0]), np.array([4.5, 0.3]), 1.3
-    d = P - O
-    Pn = O - d * c / abs(d[1])                     # on the negative image plane, z' = −c
-    Pp = O + d * c / abs(d[1])                     # on the positive (mirrored) plane
+    C, P, c = np.array([0.0, 5.0]), np.array([4.5, 0.3]), 1.3
+    d = P - C
+    Pn = C - d * c / abs(d[1])                     # on the negative image plane, z' = −c
+    Pp = C + d * c / abs(d[1])                     # on the positive (mirrored) plane
     ax.plot([-3.5, 6.2], [0.0, 0.0], color="#8c564b", lw=1)
     ax.text(6.1, -0.45, "object space / Objektraum", ha="right", fontsize=8, color="#8c564b")
-    ax.plot([-2.2, 1.0], [O[1] + c] * 2, color="0.3", lw=1.6)
-    ax.plot([-1.0, 2.2], [O[1] - c] * 2, color="0.65", lw=1, ls="--")
-    ax.text(1.1, O[1] + c - 0.05, "image plane, z' = −c", fontsize=7, color="0.3", va="center")
-    ax.text(-3.5, O[1] - c - 0.05, "positive image (mirrored)", fontsize=7, color="0.5",
+    ax.plot([-2.2, 1.0], [C[1] + c] * 2, color="0.3", lw=1.6)
+    ax.plot([-1.0, 2.2], [C[1] - c] * 2, color="0.65", lw=1, ls="--")
+    ax.text(1.1, C[1] + c - 0.05, "image plane, z' = −c", fontsize=7, color="0.3", va="center")
+    ax.text(-3.5, C[1] - c - 0.05, "positive image (mirrored)", fontsize=7, color="0.5",
             va="center")
     ax.plot(*np.column_stack([Pn, P]), color="#1f77b4", lw=1.2)
-    ax.plot([O[0], O[0]], [0.0, O[1] + c], color="0.55", lw=0.8, ls=":")
-    ax.plot([O[0], O[0]], [O[1], O[1] + c], color="#9467bd", lw=2.2)
-    ax.text(0.08, O[1] + 0.45, "c", color="#9467bd", fontsize=10)
-    for pt in (O, Pn, Pp, P, np.array([O[0], O[1] + c])):
+    ax.plot([C[0], C[0]], [0.0, C[1] + c], color="0.55", lw=0.8, ls=":")
+    ax.plot([C[0], C[0]], [C[1], C[1] + c], color="#9467bd", lw=2.2)
+    ax.text(0.08, C[1] + 0.45, "c", color="#9467bd", fontsize=10)
+    for pt in (C, Pn, Pp, P, np.array([C[0], C[1] + c])):
         ax.plot(*pt, "o", color="k", ms=4)
     ax.text(Pn[0] - 0.2, Pn[1] + 0.3, "P' = (x', y')", fontsize=8, ha="center")
-    ax.text(0.05, O[1] + c + 0.3, "H' = (x'0, y'0)", fontsize=8)
-    ax.text(0.3, O[1] - 0.15, "O = X0, projection centre", fontsize=8)
+    ax.text(0.05, C[1] + c + 0.3, "H' = (x'0, y'0)", fontsize=8)
+    ax.text(0.3, C[1] - 0.15, "O = X0, projection centre", fontsize=8)
     ax.text(P[0] - 0.2, P[1] + 0.3, "P = X", fontsize=8, ha="right")
     ax.text(-3.5, 6.9, "x* = (x' − x'0, y' − y'0, −c)  (camera frame)", color="#2ca02c",
             fontsize=8)
-    ax.annotate("", xy=Pn, xytext=O, arrowprops={"arrowstyle": "->", "color": "#2ca02c",
+    ax.annotate("", xy=Pn, xytext=C, arrowprops={"arrowstyle": "->", "color": "#2ca02c",
                                                  "lw": 1.5})
     ax.text(2.7, 2.6, "X − X0 = m·R·x*\nm > 0: in front", color="#d62728", fontsize=8)
-    ax.annotate("", xy=P, xytext=O, arrowprops={"arrowstyle": "->", "color": "#d62728",
+    ax.annotate("", xy=P, xytext=C, arrowprops={"arrowstyle": "->", "color": "#d62728",
                                                 "lw": 1.0, "shrinkA": 0, "shrinkB": 3})
     ax.set(xlim=(-3.6, 6.3), ylim=(-0.7, 7.3), aspect="equal")
     ax.axis("off")
