@@ -411,42 +411,48 @@ def dtm_iteration(xy, X0, R, c, surface, Z_start=None, steps=6):
     return {"heights": heights, "points": points, "X": X}
 
 
-def plot_dtm_iteration(xy, X0, R, c, surface, Z_start=None, steps=6, profile=None):
-    """Profile (X, Z) along the ray: terrain, ray, the planes Z_k and the points of the
-    iteration converging to the surface point."""
+def plot_dtm_iteration(xy, X0, R, c, surface, Z_start=None, steps=6):
+    """Profile along the ray's plan direction: left the camera, the ray and the terrain; right
+    a zoom on the iteration, the planes Z_k (grey), the points on them (red) and the step to
+    the terrain height under each (dotted), converging to the surface point (star)."""
     import matplotlib.pyplot as plt
 
     it = dtm_iteration(xy, X0, R, c, surface, Z_start, steps)
     X0 = np.asarray(X0, float)
     d = it["X"][:2] - X0[:2]
-    u = d / np.linalg.norm(d)
-    reach = (it["points"][:, :2] - X0[:2]) @ u
-    s_end = 1.15 * max(float(reach.max()), float(np.linalg.norm(d)))
-    s = np.linspace(-0.15 * s_end, s_end, 200)
-    terrain = surface(X0[:2] + s[:, None] * u)
-    fig, ax = plt.subplots(figsize=(6.4, 3.4))
-    ax.fill_between(s, terrain, terrain.min() - 20, color="#c7b299", alpha=0.6, lw=0)
-    ax.plot(s, terrain, color="#8c564b", lw=1.2, label="terrain Z = h(X, Y)")
+    dist = float(np.linalg.norm(d))
+    u = d / dist
     along = (it["points"][:, :2] - X0[:2]) @ u
-    far = 1.05 * max(float(along.max()), float(np.linalg.norm(d))) / np.linalg.norm(d)
-    ax.plot([0.0, np.linalg.norm(d) * far], [X0[2], X0[2] + far * (it["X"][2] - X0[2])],
-            color="#1f77b4", lw=1, label="image ray")
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(8.0, 3.3), gridspec_kw={"width_ratios": [1, 1.3]})
+    far = 1.1 * max(float(along.max()), dist)
+    s = np.linspace(-0.1 * far, far, 300)
+    terrain = surface(X0[:2] + s[:, None] * u)
+    ray_z = X0[2] + s / dist * (it["X"][2] - X0[2])
+    for ax in (ax1, ax2):
+        ax.fill_between(s, terrain, terrain.min() - 1e4, color="#c7b299", alpha=0.6, lw=0)
+        ax.plot(s, terrain, color="#8c564b", lw=1.2, label="terrain Z = h(X, Y)")
+        front = s >= 0
+        ax.plot(s[front], ray_z[front], color="#1f77b4", lw=1, label="image ray")
+        ax.plot(dist, it["X"][2], "*", color="k", ms=10, label="surface point", zorder=5)
+    ax1.plot(0.0, X0[2], "k^", label="projection centre")
+    ax1.set(xlabel="plan distance along the ray [m]", ylabel="Z [m]",
+            ylim=(min(terrain.min(), it["heights"].min()) - 50, X0[2] + 80))
+    ax1.legend(fontsize=6, loc="upper right")
+    ax1.set_title("camera, ray and terrain", fontsize=9)
+    span_s = max(float(np.ptp(along)), 1.0)
+    span_z = max(float(np.ptp(it["heights"])), 1.0)
+    w = 0.06 * span_s
     for k, (z, a) in enumerate(zip(it["heights"], along)):
-        ax.plot([a - 0.08 * s_end, a + 0.08 * s_end], [z, z], color="0.5", lw=0.8)
-        ax.plot(a, z, "o", color="#d62728", ms=4)
+        ax2.plot([a - w, a + w], [z, z], color="0.45", lw=0.8)
+        ax2.plot(a, z, "o", color="#d62728", ms=4, zorder=4)
         if k < 4:
-            ax.annotate(f"Z{k}", (a + 0.09 * s_end, z), fontsize=7, va="center")
+            ax2.annotate(f"Z{k}", (a + 1.2 * w, z), fontsize=7, va="center")
         if k + 1 < len(along):
-            ax.plot([a, a], [z, it["heights"][k + 1]], color="#d62728", lw=0.7, ls=":")
-    ax.plot(np.linalg.norm(d), it["X"][2], "*", color="k", ms=9, label="surface point")
-    ax.plot(0.0, X0[2], "k^", label="projection centre")
-    lo = min(terrain.min(), it["heights"].min())
-    ax.set(xlabel="distance along the ray's plan direction [m]", ylabel="Z [m]",
-           ylim=(lo - 20, X0[2] + 40))
-    if profile is not None:
-        ax.set(ylim=profile)
-    ax.legend(fontsize=7, loc="upper right")
-    ax.set_title("monoplotting on a DTM: plane, height, plane again …", fontsize=9)
+            ax2.plot([a, a], [z, it["heights"][k + 1]], color="#d62728", lw=0.8, ls=":")
+    ax2.set(xlim=(along.min() - 0.3 * span_s, along.max() + 0.3 * span_s),
+            ylim=(it["heights"].min() - 0.25 * span_z, it["heights"].max() + 0.25 * span_z),
+            xlabel="plan distance along the ray [m]")
+    ax2.set_title("zoom: plane Z_k → point → height under it → Z_(k+1)", fontsize=9)
     fig.tight_layout()
     return finished(fig)
 
