@@ -25,6 +25,8 @@ from photolib.nb.live import Explorer, LiveFigure, finished, slider
 from photolib.nb.text import matrix_html
 
 __all__ = [
+    "ConvergenceExplorer",
+    "convergence_scene",
     "dtm_iteration",
     "plot_collinearity_geometry",
     "plot_convergence",
@@ -508,3 +510,70 @@ def plot_convergence(X, xy, c, truth, errors_deg=(2.0, 10.0, 25.0, 40.0, 60.0), 
     ax.set_title("Gauss–Newton from start values of different quality", fontsize=9)
     fig.tight_layout()
     return finished(fig)
+
+
+def convergence_scene(seed=6, n=8, c=50.0):
+    """The close-range resection of chapter 06's convergence study: ``(X, xy, c, truth)``,
+    n object points (m) on a 80 m × 80 m site, their exact image points (mm) and the true
+    ``(X0, Y0, Z0, ω, φ, κ)`` (m, rad).
+
+    >>> X, xy, c, truth = convergence_scene()
+    >>> X.shape, xy.shape, c
+    ((8, 3), (8, 2), 50.0)
+    """
+    rng = np.random.default_rng(seed)
+    X = np.column_stack([rng.uniform(-40, 40, n), rng.uniform(-40, 40, n), rng.uniform(0, 10, n)])
+    truth = np.r_[5.0, -3.0, 120.0, np.radians([3.0, -2.0, 30.0])]
+    return X, pl.project(X, truth[:3], pl.rotation_opk(*truth[3:]), c), c, truth
+
+
+class ConvergenceExplorer(Explorer):
+    """Approximate values / Näherungswerte: start the space resection's Gauss–Newton iteration
+    with the angles off by ``angle_error`` degrees (all three, alternating signs) and the
+    projection centre off by ``centre_error`` % of the distance; the figure shows the largest
+    angle update of each iteration (:func:`resection_history`)."""
+
+    title = "approximate values and convergence"
+    max_iter = 15
+
+    def __init__(self, angle_error=10.0, centre_error=20.0):
+        self.controls = {"angle_error": slider("angle error [°]", angle_error, 0, 80, 1),
+                         "centre_error": slider("centre error [%]", centre_error, 0, 60, 1)}
+        self.X, self.xy, self.c, self.truth = convergence_scene()
+        self.live = LiveFigure((4.4, 3.0))
+        ax = self.live.figure.add_subplot()
+        self.live.figure.subplots_adjust(0.18, 0.16, 0.97, 0.9)
+        ax.set(yscale="log", xlim=(0.5, self.max_iter + 0.5), ylim=(1e-17, 10.0),
+               xlabel="iteration", ylabel="largest angle update [rad]",
+               title="Gauss–Newton from the start values")
+        ax.axhline(1e-10, color="0.6", lw=0.8, ls=":")
+        (self._line,) = ax.plot([], [], "o-", color="#1f77b4", ms=3)
+        self.live.animate(self._line)
+        self.report = None
+        self._finish()
+
+    def start(self, angle_error, centre_error) -> np.ndarray:
+        """The start values for these errors (degrees, per cent of the distance)."""
+        off = 0.01 * centre_error * self.truth[2] * np.array([0.3, -0.3, 0.5]) / 0.6557
+        return self.truth + np.r_[off, np.radians([angle_error, -angle_error, angle_error])]
+
+    def draw(self, angle_error, centre_error) -> str:
+        h = resection_history(self.X, self.xy, self.c, self.start(angle_error, centre_error),
+                              self.max_iter)
+        ok = np.isfinite(h)
+        it = np.arange(1, self.max_iter + 1)
+        self._line.set_data(it[ok], np.maximum(h[ok], 1e-17))
+        done = np.flatnonzero(ok & (h < 1e-10))
+        if done.size:
+            text = f"converged in {done[0] + 1} iterations"
+        elif not ok.any():
+            text = "<span style='color:#b00'>diverged at once (points behind the camera)</span>"
+        elif not ok.all():
+            text = (f"<span style='color:#b00'>diverged in iteration {int(ok.sum()) + 1} "
+                    "(points behind the camera)</span>")
+        else:
+            text = (f"<span style='color:#b00'>not converged in {self.max_iter} "
+                    "iterations</span>")
+        self.report = {"history": h, "text": text}
+        return (f"<p>start: angles off by {angle_error:.0f}°, centre off by "
+                f"{centre_error:.0f} % of the distance<br>{text}</p>")
