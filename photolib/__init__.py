@@ -31,6 +31,7 @@ _EXPORTS = {
     # collinearity, distortion, pixels
     "PointBehindCameraError": "collinearity", "collinearity_jacobian": "collinearity",
     "monoplot": "collinearity", "project": "collinearity",
+    "monoplot_dtm": "collinearity",
     # earth curvature and atmospheric refraction of aerial images (chapter 06)
     "earth_curvature_correction": "aerial", "refraction_constant": "aerial",
     "refraction_correction": "aerial", "exterior_from_navigation": "aerial",

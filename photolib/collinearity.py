@@ -18,7 +18,7 @@ from photolib._validate import as_points, as_rotation, as_scalar, as_vector3, ch
 from photolib.distortion import Distortion
 from photolib.rotations import opk_from_rotation
 
-__all__ = ["project", "collinearity_jacobian", "monoplot", "PointBehindCameraError"]
+__all__ = ["project", "collinearity_jacobian", "monoplot", "monoplot_dtm", "PointBehindCameraError"]
 
 #: points per block: temporaries stay in the CPU cache, memory stays bounded for N = 1e6+
 BLOCK = 8192
@@ -238,3 +238,100 @@ def monoplot(xy, X0, R, c, Z, x0=0.0, y0=0.0, distortion=None):
                          f"(Z0 = {X0[2]}, ray direction {rays[i].round(6).tolist()})")
     out = X0 + lam[:, None] * rays
     return out[0] if single else out
+
+
+def monoplot_dtm(xy, X0, R, c, surface, x0=0.0, y0=0.0, distortion=None, *, Z_start=None,
+                 tol=1e-4, max_iter=50, return_iterations=False):
+    """Intersect image rays with a terrain surface Z = h(X, Y) (monoplotting on a DTM).
+
+    The iteration of Kraus and Luhmann: start on the plane ``Z = Z_start``, intersect the ray
+    with that plane (:func:`monoplot`), read the terrain height under the point, intersect
+    again with the plane at that height, until the height changes by less than ``tol``::
+
+        Z_(k+1) = h(X_k, Y_k),   (X_k, Y_k, Z_k) = X0 + λ_k·R·x*,  λ_k = (Z_k − Z0)/(R·x*)_3
+
+    It converges where the terrain is less steep than the ray, ``|∇h|·tan ν < 1`` (ν the angle
+    of the ray from the plumb line): the error shrinks by that factor per step.
+
+    Parameters
+    ----------
+    xy : array_like, shape (N, 2) or (2,)
+        Measured image coordinates (image unit, mm).
+    X0, R, c, x0, y0, distortion
+        As in :func:`project`.
+    surface : callable or photolib.DTM
+        Terrain heights: ``surface(XY)`` with ``XY`` of shape (N, 2) returns N heights
+        (object unit), or a :class:`photolib.DTM` (its ``height``).
+    Z_start : float, optional
+        Height of the first plane; default the terrain height under the projection centre.
+    tol : float
+        Stop when every point's height changes by less than ``tol`` (object unit).
+    max_iter : int
+        Iteration limit; not converging within it raises ``ValueError``.
+    return_iterations : bool
+        If True return ``(X, heights)`` with ``heights`` of shape (k + 1, N): the plane
+        heights Z_0 … Z_k of the iteration.
+
+    Returns
+    -------
+    X : ndarray, shape (N, 3) or (3,)
+        Object points on the surface (to ``tol`` in height).
+
+    Raises
+    ------
+    ValueError
+        If a ray is parallel to a plane or meets it behind the camera, or the iteration does
+        not converge (terrain steeper than the ray), naming the point.
+
+    Examples
+    --------
+    >>> slope = lambda XY: 0.1 * XY[:, 0]              # a plane rising 10 % to the east
+    >>> X = monoplot_dtm([10.0, 0.0], [0.0, 0.0, 1000.0], np.eye(3), 100.0, slope, tol=1e-9)
+    >>> np.round(X, 6).tolist()                        # X = 100 m·(1 − 0.01·X): 100/1.01
+    [99.009901, 0.0, 9.90099]
+    """
+    pts, single = as_points(xy, 2, "xy")
+    X0 = as_vector3(X0, "X0")
+    height = surface.height if hasattr(surface, "height") else surface
+    if not callable(height):
+        raise TypeError(f"surface must be a callable h(XY) or a photolib.DTM, got "
+                        f"{type(surface).__name__}")
+    tol = as_scalar(tol, "tol", positive=True)
+    if int(max_iter) < 1:
+        raise ValueError(f"max_iter must be at least 1, got {max_iter!r}")
+
+    def h(XY):
+        Z = np.asarray(height(np.asarray(XY, float)), float).reshape(-1)
+        if Z.shape != (len(XY),) or not np.isfinite(Z).all():
+            raise ValueError(f"the surface gave {Z.tolist()[:5]} for plan positions "
+                             f"{np.asarray(XY).tolist()[:5]}: expected {len(XY)} finite heights")
+        return Z
+
+    Z = (np.full(len(pts), h(X0[None, :2])[0]) if Z_start is None
+         else np.full(len(pts), as_scalar(Z_start, "Z_start")))
+    history = [Z.copy()]
+
+    def on_planes(Z, k):
+        try:
+            return np.vstack([monoplot(p, X0, R, c, z, x0, y0, distortion)
+                              for p, z in zip(pts, Z)])
+        except ValueError as err:
+            if k == 0:
+                raise
+            raise ValueError(f"monoplotting on the surface did not converge: at iteration {k} "
+                             f"{err} (terrain steeper than the ray: |slope|·tan ν ≥ 1?)") from err
+
+    for k in range(int(max_iter)):
+        X = on_planes(Z, k)
+        Z_new = h(X[:, :2])
+        history.append(Z_new.copy())
+        step = np.abs(Z_new - Z)
+        Z = Z_new
+        if (step < tol).all():
+            X = on_planes(Z, k + 1)
+            out = X[0] if single else X
+            return (out, np.array(history)) if return_iterations else out
+    i = int(np.argmax(step))
+    raise ValueError(f"monoplotting on the surface did not converge in {max_iter} iterations "
+                     f"for xy[{i}] = {pts[i].tolist()}: the height still changes by "
+                     f"{step[i]:.3g} (terrain steeper than the ray: |slope|·tan ν ≥ 1?)")

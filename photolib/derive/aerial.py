@@ -55,10 +55,16 @@ def earth_curvature_displacement():
     order r' and r0 are interchangeable in the term).
     """
     exact, flat = earth_curvature_image_radius()
-    diff = (exact - flat).subs(R, 1 / eps)
-    first = sp.series(diff, eps, 0, 2).removeO()
-    term = sp.simplify(first.coeff(eps, 1)) * eps
-    return sp.simplify(term.subs({D: r * H / c, eps: 1 / R}))
+    # sin and cos by their Taylor polynomials to θ⁴ (θ = D·ε): exact to the order wanted, and
+    # a rational function in ε, whose derivative at ε = 0 is quick (a series of the
+    # trigonometric form takes several times as long)
+    th = sp.Symbol("theta")
+    poly = {sp.sin(D / R): sp.sin(th).series(th, 0, 5).removeO().subs(th, D * eps),
+            sp.cos(D / R): sp.cos(th).series(th, 0, 5).removeO().subs(th, D * eps)}
+    diff = sp.cancel((exact.xreplace(poly) - flat).subs(R, 1 / eps))
+    assert diff.subs(eps, 0) == 0                       # no zeroth-order term
+    term = sp.diff(diff, eps).subs(eps, 0) * eps
+    return sp.factor(term.subs({D: r * H / c, eps: 1 / R}))
 
 
 def refraction_displacement():

@@ -25,6 +25,13 @@ from photolib.nb.live import Explorer, LiveFigure, finished, slider
 from photolib.nb.text import matrix_html
 
 __all__ = [
+    "ConvergenceExplorer",
+    "convergence_scene",
+    "dtm_iteration",
+    "plot_collinearity_geometry",
+    "plot_convergence",
+    "plot_dtm_iteration",
+    "resection_history",
     "HALF",
     "FootprintExplorer",
     "ProjectionExplorer",
@@ -331,3 +338,242 @@ def plot_projection(X0, R, c, x0=0.0, y0=0.0, distortion=None, title="image / Bi
            title=title)
     fig.subplots_adjust(0.0, 0.14, 0.98, 0.92, wspace=0.32)
     return finished(fig)
+
+
+# -- derivation, inverse on a height and on a DTM, linearisation (chapter 06 rewrite) ----------
+
+def plot_collinearity_geometry():
+    """Side view of the collinearity condition: projection centre O, the image plane at
+    distance c behind it (negative image, z' = −c) and in front (positive), image point P',
+    object point P on one straight line; X − X0 = m·R·x*.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.4, 3.8))
+    C, P, c = np.array([0.0, 5.0]), np.array([4.5, 0.3]), 1.3
+    d = P - C
+    Pn = C - d * c / abs(d[1])                     # on the negative image plane, z' = −c
+    Pp = C + d * c / abs(d[1])                     # on the positive (mirrored) plane
+    ax.plot([-3.5, 6.2], [0.0, 0.0], color="#8c564b", lw=1)
+    ax.text(6.1, -0.45, "object space / Objektraum", ha="right", fontsize=8, color="#8c564b")
+    ax.plot([-2.2, 1.0], [C[1] + c] * 2, color="0.3", lw=1.6)
+    ax.plot([-1.0, 2.2], [C[1] - c] * 2, color="0.65", lw=1, ls="--")
+    ax.text(1.1, C[1] + c - 0.05, "image plane, z' = −c", fontsize=7, color="0.3", va="center")
+    ax.text(-3.5, C[1] - c - 0.05, "positive image (mirrored)", fontsize=7, color="0.5",
+            va="center")
+    ax.plot(*np.column_stack([Pn, P]), color="#1f77b4", lw=1.2)
+    ax.plot([C[0], C[0]], [0.0, C[1] + c], color="0.55", lw=0.8, ls=":")
+    ax.plot([C[0], C[0]], [C[1], C[1] + c], color="#9467bd", lw=2.2)
+    ax.text(0.08, C[1] + 0.45, "c", color="#9467bd", fontsize=10)
+    for pt in (C, Pn, Pp, P, np.array([C[0], C[1] + c])):
+        ax.plot(*pt, "o", color="k", ms=4)
+    ax.text(Pn[0] - 0.2, Pn[1] + 0.3, "P' = (x', y')", fontsize=8, ha="center")
+    ax.text(0.05, C[1] + c + 0.3, "H' = (x'0, y'0)", fontsize=8)
+    ax.text(0.3, C[1] - 0.15, "O = X0, projection centre", fontsize=8)
+    ax.text(P[0] - 0.2, P[1] + 0.3, "P = X", fontsize=8, ha="right")
+    ax.text(-3.5, 6.9, "x* = (x' − x'0, y' − y'0, −c)  (camera frame)", color="#2ca02c",
+            fontsize=8)
+    ax.annotate("", xy=Pn, xytext=C, arrowprops={"arrowstyle": "->", "color": "#2ca02c",
+                                                 "lw": 1.5})
+    ax.text(2.7, 2.6, "X − X0 = m·R·x*\nm > 0: in front", color="#d62728", fontsize=8)
+    ax.annotate("", xy=P, xytext=C, arrowprops={"arrowstyle": "->", "color": "#d62728",
+                                                "lw": 1.0, "shrinkA": 0, "shrinkB": 3})
+    ax.set(xlim=(-3.6, 6.3), ylim=(-0.7, 7.3), aspect="equal")
+    ax.axis("off")
+    ax.set_title("collinearity / Kollinearität: P', O and P on one straight line", fontsize=9)
+    return finished(fig)
+
+
+def dtm_iteration(xy, X0, R, c, surface, Z_start=None, steps=6):
+    """Points of the monoplotting iteration on a surface (:func:`photolib.monoplot_dtm`).
+
+    Returns
+    -------
+    dict
+        ``heights`` (k + 1,) plane heights Z_0 … Z_k, ``points`` (k + 1, 3) the ray's points
+        on these planes, ``X`` the converged point.
+
+    Examples
+    --------
+    >>> it = dtm_iteration([30.0, 0.0], [0.0, 0.0, 1000.0], np.eye(3), 100.0,
+    ...                    lambda XY: 0.2 * XY[:, 0], Z_start=0.0, steps=3)
+    >>> np.round(it["heights"], 3).tolist()            # each step shrinks the error by 0.06
+    [0.0, 60.0, 56.4, 56.616]
+    """
+    X0 = np.asarray(X0, float)
+    _, hist = pl.monoplot_dtm(xy, X0, R, c, surface, Z_start=Z_start, tol=1e-9,
+                              return_iterations=True)
+    heights = hist[: steps + 1, 0]
+    points = np.vstack([pl.monoplot(xy, X0, R, c, Z=z) for z in heights])
+    X = pl.monoplot_dtm(xy, X0, R, c, surface, Z_start=Z_start, tol=1e-9)
+    return {"heights": heights, "points": points, "X": X}
+
+
+def plot_dtm_iteration(xy, X0, R, c, surface, Z_start=None, steps=6):
+    """Profile along the ray's plan direction: left the camera, the ray and the terrain; right
+    a zoom on the iteration, the planes Z_k (grey), the points on them (red) and the step to
+    the terrain height under each (dotted), converging to the surface point (star)."""
+    import matplotlib.pyplot as plt
+
+    it = dtm_iteration(xy, X0, R, c, surface, Z_start, steps)
+    X0 = np.asarray(X0, float)
+    d = it["X"][:2] - X0[:2]
+    dist = float(np.linalg.norm(d))
+    u = d / dist
+    along = (it["points"][:, :2] - X0[:2]) @ u
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(8.0, 3.3), gridspec_kw={"width_ratios": [1, 1.3]})
+    far = 1.1 * max(float(along.max()), dist)
+    s = np.linspace(-0.1 * far, far, 300)
+    terrain = surface(X0[:2] + s[:, None] * u)
+    ray_z = X0[2] + s / dist * (it["X"][2] - X0[2])
+    for ax in (ax1, ax2):
+        ax.fill_between(s, terrain, terrain.min() - 1e4, color="#c7b299", alpha=0.6, lw=0)
+        ax.plot(s, terrain, color="#8c564b", lw=1.2, label="terrain Z = h(X, Y)")
+        front = s >= 0
+        ax.plot(s[front], ray_z[front], color="#1f77b4", lw=1, label="image ray")
+        ax.plot(dist, it["X"][2], "*", color="k", ms=10, label="surface point", zorder=5)
+    ax1.plot(0.0, X0[2], "k^", label="projection centre")
+    ax1.set(xlabel="plan distance along the ray [m]", ylabel="Z [m]",
+            ylim=(min(terrain.min(), it["heights"].min()) - 50, X0[2] + 80))
+    ax1.legend(fontsize=6, loc="upper right")
+    ax1.set_title("camera, ray and terrain", fontsize=9)
+    span_s = max(float(np.ptp(along)), 1.0)
+    span_z = max(float(np.ptp(it["heights"])), 1.0)
+    w = 0.06 * span_s
+    for k, (z, a) in enumerate(zip(it["heights"], along)):
+        ax2.plot([a - w, a + w], [z, z], color="0.45", lw=0.8)
+        ax2.plot(a, z, "o", color="#d62728", ms=4, zorder=4)
+        if k < 4:
+            ax2.annotate(f"Z{k}", (a + 1.2 * w, z), fontsize=7, va="center")
+        if k + 1 < len(along):
+            ax2.plot([a, a], [z, it["heights"][k + 1]], color="#d62728", lw=0.8, ls=":")
+    ax2.set(xlim=(along.min() - 0.3 * span_s, along.max() + 0.3 * span_s),
+            ylim=(it["heights"].min() - 0.25 * span_z, it["heights"].max() + 0.25 * span_z),
+            xlabel="plan distance along the ray [m]")
+    ax2.set_title("zoom: plane Z_k → point → height under it → Z_(k+1)", fontsize=9)
+    fig.tight_layout()
+    return finished(fig)
+
+
+def resection_history(X, xy, c, start, max_iter=12):
+    """Gauss–Newton iterates of the space resection from ``start`` (X0, Y0, Z0, ω, φ, κ):
+    the largest angle update (rad) of each iteration, NaN once it diverged (points behind the
+    camera, non-finite updates).
+
+    Examples
+    --------
+    >>> X = np.array([[0, 0, 0], [10, 0, 1], [0, 10, 2], [10, 10, 0], [5, 5, 4], [2, 8, 1.0]])
+    >>> xy = pl.project(X, [4.0, 6.0, 30.0], pl.rotation_opk(0.05, -0.1, 0.2), 24.0)
+    >>> h = resection_history(X, xy, 24.0, [5.0, 5.0, 25.0, 0.0, 0.0, 0.0], 8)
+    >>> bool(h[-1] < 1e-12)
+    True
+    """
+    q = np.asarray(start, float).copy()
+    out = np.full(max_iter, np.nan)
+    for k in range(max_iter):
+        R = pl.rotation_opk(*q[3:])
+        try:
+            v = pl.project(X, q[:3], R, c) - xy
+            A = pl.collinearity_jacobian(X, q[:3], R, c, angles=tuple(q[3:]))[:, :, :6]
+        except ValueError:
+            break
+        dq = np.linalg.lstsq(A.reshape(-1, 6), -v.reshape(-1), rcond=None)[0]
+        if not np.all(np.isfinite(dq)):
+            break
+        q = q + dq
+        out[k] = np.max(np.abs(dq[3:]))
+    return out
+
+
+def plot_convergence(X, xy, c, truth, errors_deg=(2.0, 10.0, 25.0, 40.0, 60.0), max_iter=12):
+    """Convergence of the linearised collinearity equations from start values whose angles
+    are off by ``errors_deg`` (all three) and whose centre is off by 20 % of the distance."""
+    import matplotlib.pyplot as plt
+
+    truth = np.asarray(truth, float)
+    fig, ax = plt.subplots(figsize=(5.6, 3.2))
+    colours = plt.cm.viridis(np.linspace(0.0, 0.9, len(errors_deg)))
+    for e, col in zip(errors_deg, colours):
+        start = truth + np.r_[0.2 * truth[2] * np.array([0.3, -0.3, 0.5]), np.radians([e, -e, e])]
+        h = resection_history(X, xy, c, start, max_iter)
+        ok = np.isfinite(h) & (h > 0)
+        converged = bool(ok.any() and np.nanmin(h) < 1e-10)
+        ax.semilogy(np.arange(1, max_iter + 1)[ok], h[ok], "o-", color=col, ms=3,
+                    label=f"angles off by {e:g}°" + ("" if converged else " (no convergence)"))
+    ax.axhline(1e-10, color="0.6", lw=0.8, ls=":")
+    ax.set(xlabel="iteration", ylabel="largest angle update [rad]", ylim=(1e-16, 10.0))
+    ax.legend(fontsize=7)
+    ax.set_title("Gauss–Newton from start values of different quality", fontsize=9)
+    fig.tight_layout()
+    return finished(fig)
+
+
+def convergence_scene(seed=6, n=8, c=50.0):
+    """The close-range resection of chapter 06's convergence study: ``(X, xy, c, truth)``,
+    n object points (m) on a 80 m × 80 m site, their exact image points (mm) and the true
+    ``(X0, Y0, Z0, ω, φ, κ)`` (m, rad).
+
+    >>> X, xy, c, truth = convergence_scene()
+    >>> X.shape, xy.shape, c
+    ((8, 3), (8, 2), 50.0)
+    """
+    rng = np.random.default_rng(seed)
+    X = np.column_stack([rng.uniform(-40, 40, n), rng.uniform(-40, 40, n), rng.uniform(0, 10, n)])
+    truth = np.r_[5.0, -3.0, 120.0, np.radians([3.0, -2.0, 30.0])]
+    return X, pl.project(X, truth[:3], pl.rotation_opk(*truth[3:]), c), c, truth
+
+
+class ConvergenceExplorer(Explorer):
+    """Approximate values / Näherungswerte: start the space resection's Gauss–Newton iteration
+    with the angles off by ``angle_error`` degrees (all three, alternating signs) and the
+    projection centre off by ``centre_error`` % of the distance; the figure shows the largest
+    angle update of each iteration (:func:`resection_history`)."""
+
+    title = "approximate values and convergence"
+    max_iter = 15
+
+    def __init__(self, angle_error=10.0, centre_error=20.0):
+        self.controls = {"angle_error": slider("angle error [°]", angle_error, 0, 80, 1),
+                         "centre_error": slider("centre error [%]", centre_error, 0, 60, 1)}
+        self.X, self.xy, self.c, self.truth = convergence_scene()
+        self.live = LiveFigure((4.4, 3.0))
+        ax = self.live.figure.add_subplot()
+        self.live.figure.subplots_adjust(0.18, 0.16, 0.97, 0.9)
+        ax.set(yscale="log", xlim=(0.5, self.max_iter + 0.5), ylim=(1e-17, 10.0),
+               xlabel="iteration", ylabel="largest angle update [rad]",
+               title="Gauss–Newton from the start values")
+        ax.axhline(1e-10, color="0.6", lw=0.8, ls=":")
+        (self._line,) = ax.plot([], [], "o-", color="#1f77b4", ms=3)
+        self.live.animate(self._line)
+        self.report = None
+        self._finish()
+
+    def start(self, angle_error, centre_error) -> np.ndarray:
+        """The start values for these errors (degrees, per cent of the distance)."""
+        off = 0.01 * centre_error * self.truth[2] * np.array([0.3, -0.3, 0.5]) / 0.6557
+        return self.truth + np.r_[off, np.radians([angle_error, -angle_error, angle_error])]
+
+    def draw(self, angle_error, centre_error) -> str:
+        h = resection_history(self.X, self.xy, self.c, self.start(angle_error, centre_error),
+                              self.max_iter)
+        ok = np.isfinite(h)
+        it = np.arange(1, self.max_iter + 1)
+        self._line.set_data(it[ok], np.maximum(h[ok], 1e-17))
+        done = np.flatnonzero(ok & (h < 1e-10))
+        if done.size:
+            text = f"converged in {done[0] + 1} iterations"
+        elif not ok.any():
+            text = "<span style='color:#b00'>diverged at once (points behind the camera)</span>"
+        elif not ok.all():
+            text = (f"<span style='color:#b00'>diverged in iteration {int(ok.sum()) + 1} "
+                    "(points behind the camera)</span>")
+        else:
+            text = (f"<span style='color:#b00'>not converged in {self.max_iter} "
+                    "iterations</span>")
+        self.report = {"history": h, "text": text}
+        return (f"<p>start: angles off by {angle_error:.0f}°, centre off by "
+                f"{centre_error:.0f} % of the distance<br>{text}</p>")

@@ -3,7 +3,14 @@
 * ``col.project`` (array): image coordinates of a ground point in an aerial image;
 * ``col.partial-derivative`` (expression): ∂x'/∂X0 (or another entry) derived with SymPy;
 * ``col.dy-dphi`` (number): ∂y'/∂φ of a close-range image (Luhmann 4.18b, corrected);
-* ``col.ground-point`` (function): monoplotting an image point onto a plane Z = const.
+* ``col.ground-point`` (function): image point → object point on a given height Z (the ray
+  intersected with the plane), with a principal point; degenerate: the plane behind the camera;
+* scenario ``col.nav-rotation`` (direct georeferencing, 3 steps): the camera rotation from
+  roll, pitch, heading and boresight; the projection centre from the antenna and lever arm;
+  the image point of a ground point with that exterior orientation;
+* scenario ``col.refraction-constant`` (aerial image corrections, 3 steps): the refraction
+  constant K (ARDC atmosphere); the image coordinates corrected for refraction and earth
+  curvature; the object point of the corrected ray on a given height.
 
 Course conventions (docs/conventions.md): ``(kx, ky, N) = Rᵀ(X − X0)``,
 ``x' = x'0 − c·kx/N``, ``y' = y'0 − c·ky/N``, ``R = R_ω·R_φ·R_κ``, c > 0, N < 0 in front.
@@ -227,54 +234,98 @@ dy_dphi = Exercise(
     ))
 
 
-# -- 4. monoplotting (function) -----------------------------------------------------------------
+# -- 4. image point to object point on a given height (function) ------------------------------
+def _last_digit_nonzero(value, digits):
+    """``value`` rounded to ``digits`` decimals, its last printed digit not 0 (a printed
+    0.35 would read as rounded to 2 decimals, not 4)."""
+    unit = 10.0 ** -digits
+    k = round(value / unit)
+    return round((k + 1 if k % 10 == 0 else k) * unit, digits)
+
+
 def _ground_params(rng):
     p = _aerial_orientation(rng)
     del p["h_m"]
+    for name in _ANGLES:
+        p[name] = _last_digit_nonzero(p[name], 4)
+    sx, sy = rng.choice([-1.0, 1.0], size=2)
+    p.update(x0_mm=_last_digit_nonzero(sx * float(rng.uniform(0.01, 0.05)), 3),
+             y0_mm=_last_digit_nonzero(sy * float(rng.uniform(0.01, 0.05)), 3))
     return p
 
 
+def _ground_reference(p):
+    import photolib as pl
+    R = _rotation(p)
+
+    def ground_point(x, y, Z):
+        return pl.monoplot(np.array([x, y]), _centre(p), R, p["c_mm"], Z, p["x0_mm"], p["y0_mm"])
+    return ground_point
+
+
 def _ground_function(transpose=False, c_factor=1.0, scale=math.pi / 180.0, senses=(1, 1, 1),
-                     library=False):
-    """``wrong(params)`` building a monoplotting function with one thing done differently."""
+                     principal=1.0):
+    """``wrong(params)``: a ground_point with one thing done differently. It raises ValueError
+    where the reference does (the plane behind the camera), as a student who checks that
+    case but makes this mistake elsewhere would."""
     def make(p):
         R = _rotation(p, senses, scale)
         R = R.T if transpose else R
         c = p["c_mm"] * c_factor
+        reference = _ground_reference(p)
 
         def ground_point(x, y, Z):
-            if library:
-                import photolib as pl
-                return pl.monoplot(np.array([x, y]), _centre(p), R, c, Z)
-            ray = R @ np.array([x, y, -c])
+            reference(x, y, Z)                      # raises on the degenerate case
+            ray = R @ np.array([x - principal * p["x0_mm"], y - principal * p["y0_mm"], -c])
             return _centre(p) + (Z - p["Z0"]) / ray[2] * ray
         return ground_point
     return make
 
 
 def _ground_cases(rng, p):
-    return [(round(float(rng.uniform(-50.0, 50.0)), 3), round(float(rng.uniform(-50.0, 50.0)), 3),
-             round(p["terrain"] + float(rng.uniform(-50.0, 50.0)), 2)) for _ in range(6)]
+    clean = [(round(float(rng.uniform(-100.0, 100.0)), 3),
+              round(float(rng.uniform(-100.0, 100.0)), 3),
+              round(p["terrain"] + float(rng.uniform(-50.0, 50.0)), 2)) for _ in range(4)]
+    noisy = [(float(x + rng.normal(0.0, 0.004)), float(y + rng.normal(0.0, 0.004)), Z)
+             for x, y, Z in clean[:2]]
+    above = round(p["Z0"] + float(rng.uniform(10.0, 200.0)), 2)   # the plane above the camera
+    return clean + noisy + [(round(float(rng.uniform(-50.0, 50.0)), 3),
+                             round(float(rng.uniform(-50.0, 50.0)), 3), above)]
 
 
 ground_point = Exercise(
     params_name="p_mono",
     id="col.ground-point", points=3, kind="function", answer="ground_point",
-    title="Monoplotting onto a plane (Monoplotting)",
-    statement="Your aerial image has the exterior orientation (äußere Orientierung): "
-              + _ORIENTATION_TEXT + ". "
-              "Write ground_point(x, y, Z) returning the object point (X, Y, Z) in m, as a "
-              "NumPy array of shape (3,), where the ray through the image point (x', y') = "
-              "(x, y) in mm meets the horizontal plane at height Z (m). It is tested on image "
-              "points and heights you do not see.",
-    parameters=_ground_params, reference=_ground_function(library=True), tolerance=PRINTED, cases=_ground_cases,
-    rtol=1e-6, atol=1e-6,
+    title="Image point to object point on a given height (Monoplotting)",
+    statement="Your aerial image has the exterior orientation (äußere Orientierung): projection "
+              "centre $\\mathbf X_0$ = ({X0}, {Y0}, {Z0}) m, $\\omega$ = {omega_deg}°, "
+              "$\\varphi$ = {phi_deg}°, $\\kappa$ = {kappa_deg}°, camera constant "
+              "(Kamerakonstante) $c$ = {c_mm} mm, principal point (Bildhauptpunkt) "
+              "$x'_0$ = {x0_mm} mm, $y'_0$ = {y0_mm} mm, no distortion. "
+              "Write `ground_point(x, y, Z)` returning the object point (X, Y, Z) in m, as a "
+              "NumPy array of shape (3,), where the ray through the measured image point "
+              "$(x', y')$ = (x, y) in mm meets the horizontal plane at height Z (m): "
+              "$\\mathbf X = \\mathbf X_0 + \\lambda R\\,\\mathbf x^*$ with "
+              "$\\mathbf x^* = (x' - x'_0,\\ y' - y'_0,\\ -c)$. Where the plane is not in "
+              "front of the camera along the ray (parallel to it, or met behind the projection "
+              "centre, $\\lambda \\le 0$) raise `ValueError` saying so. Accurate to 1 mm; "
+              "it is tested on image points (some with measurement noise) and heights you do "
+              "not see.",
+    parameters=_ground_params, reference=_ground_reference, tolerance=PRINTED,
+    cases=_ground_cases, rtol=1e-6, atol=1e-6,
     mistakes=(
         Mistake("transposed", "the ray in the object frame is R·x*, not Rᵀ·x*",
                 _ground_function(transpose=True)),
         Mistake("degrees", _DEGREES, _ground_function(scale=1.0)),
         Mistake("sign-c", hints.MESSAGES["sign-c"], _ground_function(c_factor=-1.0)),
-        Mistake("units-mm-m", "c and x', y' must have the same unit (mm)",
+        Mistake("principal-point", "the principal point is missing: x* = (x' − x'0, y' − y'0, "
+                                   "−c), reduce the measured point to the principal point first",
+                _ground_function(principal=0.0)),
+        Mistake("principal-point", "the principal point has the wrong sign: subtract it, "
+                                   "x* = (x' − x'0, y' − y'0, −c)",
+                _ground_function(principal=-1.0)),
+        Mistake("units-mm-m", "c and x', y' must have the same unit (mm); only the object "
+                              "coordinates are in m",
                 _ground_function(c_factor=1e-3)),
         Mistake("sense", f"{hints.MESSAGES['sense']} (phi)", _ground_function(senses=(1, -1, 1))),
         Mistake("sense", f"{hints.MESSAGES['sense']} (kappa)",
@@ -282,4 +333,272 @@ ground_point = Exercise(
     ))
 
 
-EXERCISES = (project, partial_derivative, dy_dphi, ground_point)
+# -- 5. scenario: direct georeferencing (3 steps) -----------------------------------------------
+def _nav_scenario(rng):
+    """GNSS/IMU of a nadir camera, a ground point, and the correct results of steps 1 and 2."""
+    import photolib as pl
+    from photolib.aerial import NED_TO_ENU, rotation_body_to_ned
+    terrain = _last_digit_nonzero(float(rng.uniform(100.0, 600.0)), 1)
+    p = {"E": _last_digit_nonzero(float(rng.uniform(2000.0, 8000.0)), 3),
+         "N": _last_digit_nonzero(float(rng.uniform(2000.0, 8000.0)), 3),
+         "U": _last_digit_nonzero(terrain + float(rng.uniform(800.0, 3000.0)), 3),
+         "roll_deg": _last_digit_nonzero(float(rng.uniform(-3.0, 3.0)), 5),
+         "pitch_deg": _last_digit_nonzero(float(rng.uniform(-3.0, 3.0)), 5),
+         "heading_deg": _last_digit_nonzero(float(rng.uniform(0.0, 360.0)), 5),
+         "bx_deg": _last_digit_nonzero(float(rng.uniform(-0.3, 0.3)), 5),
+         "by_deg": _last_digit_nonzero(float(rng.uniform(-0.3, 0.3)), 5),
+         "bz_deg": _last_digit_nonzero(float(rng.uniform(-0.3, 0.3)), 5),
+         "lx": _last_digit_nonzero(float(rng.uniform(-1.0, 1.0)), 3),
+         "ly": _last_digit_nonzero(float(rng.uniform(-0.5, 0.5)), 3),
+         "lz": _last_digit_nonzero(float(rng.uniform(-2.0, -0.5)), 3),
+         "c_mm": _last_digit_nonzero(float(rng.uniform(50.0, 150.0)), 3)}
+    angles = np.radians([p["roll_deg"], p["pitch_deg"], p["heading_deg"]])
+    X0, R = pl.exterior_from_navigation([p["E"], p["N"], p["U"]], *angles,
+                                        lever_arm=[p["lx"], p["ly"], p["lz"]],
+                                        boresight=np.radians([p["bx_deg"], p["by_deg"],
+                                                              p["bz_deg"]]))
+    R_nav = NED_TO_ENU @ rotation_body_to_ned(*angles)
+    reach = 0.3 * (p["U"] - terrain) * 100.0 / p["c_mm"]
+    p.update(R_nav=[[_last_digit_nonzero(float(v), 9) for v in row] for row in R_nav],
+             R=[[_last_digit_nonzero(float(v), 9) for v in row] for row in R],
+             X0=[_last_digit_nonzero(float(v), 4) for v in X0],
+             X=_last_digit_nonzero(float(X0[0] + rng.uniform(-reach, reach)), 3),
+             Y=_last_digit_nonzero(float(X0[1] + rng.uniform(-reach, reach)), 3),
+             Z=_last_digit_nonzero(terrain + float(rng.uniform(-30.0, 30.0)), 3))
+    return p
+
+
+def _nav_rotation(p, boresight=True, enu=True, heading_sense=1.0, scale=math.pi / 180.0):
+    from photolib.aerial import NADIR_MOUNT, NED_TO_ENU, rotation_body_to_ned
+    import photolib as pl
+    R_nb = rotation_body_to_ned(p["roll_deg"] * scale, p["pitch_deg"] * scale,
+                                heading_sense * p["heading_deg"] * scale)
+    bore = (pl.rotation_opk(*[p[n] * scale for n in ("bx_deg", "by_deg", "bz_deg")])
+            if boresight else np.eye(3))
+    return (NED_TO_ENU if enu else np.eye(3)) @ R_nb @ NADIR_MOUNT @ bore
+
+
+_NAV_TEXT = ("A nadir camera is georeferenced directly (direkte Georeferenzierung) by GNSS/IMU. "
+             "The inertial unit gives roll = {roll_deg}°, pitch = {pitch_deg}°, heading = "
+             "{heading_deg}°, the aerospace attitude body → north-east-down "
+             "$R_{{nb}} = R_z(\\psi)\\,R_y(\\theta)\\,R_x(\\phi)$ (body x forward, y right, "
+             "z down); the object frame is east-north-up, "
+             "$R_{{nav}} = T\\,R_{{nb}}$ with $T$ = [[0, 1, 0], [1, 0, 0], [0, 0, −1]]. The "
+             "camera is mounted with x′ forward, y′ left, z′ up, "
+             "$M$ = diag(1, −1, −1) (camera → body), with the boresight misalignment "
+             "(ω, φ, κ) = ({bx_deg}°, {by_deg}°, {bz_deg}°) "
+             "(calibrated): $R = R_{{nav}}\\,M\\,R_\\omega R_\\varphi R_\\kappa$. ")
+
+nav_rotation = Exercise(
+    params_name="p_nav_rot", scenario="col.nav-rotation",
+    id="col.nav-rotation", points=2, kind="rotation", answer="R_cam",
+    title="Step 1 of 3: the camera rotation from GNSS/IMU (direkte Georeferenzierung)",
+    statement=_NAV_TEXT + "Compute the rotation $R$ camera → object (east, north, up) of the "
+              "collinearity equations as a 3 × 3 NumPy array, to 6 decimals.",
+    parameters=_nav_scenario, reference=_nav_rotation, rtol=0.0, atol=2e-6,
+    mistakes=(
+        Mistake("boresight", "the boresight misalignment is missing: R = R_nav·M·R_ω·R_φ·R_κ "
+                             "with the calibrated (ω, φ, κ) of the mount",
+                lambda p: _nav_rotation(p, boresight=False)),
+        Mistake("ned-enu", "this rotates into north-east-down; the object frame is "
+                           "east-north-up: multiply by T = [[0, 1, 0], [1, 0, 0], [0, 0, −1]]",
+                lambda p: _nav_rotation(p, enu=False)),
+        Mistake("sense", "heading turns clockwise seen from above (about z down): "
+                         "R_z(ψ) = [[cos ψ, −sin ψ, 0], [sin ψ, cos ψ, 0], [0, 0, 1]] in NED",
+                lambda p: _nav_rotation(p, heading_sense=-1.0)),
+        Mistake("degrees", _DEGREES, lambda p: _nav_rotation(p, scale=1.0)),
+    ))
+
+
+def _nav_centre(p, sign=-1.0, rotate=True, transpose=False):
+    R_nav = np.array(p["R_nav"])
+    R_nav = R_nav.T if transpose else R_nav
+    lever = np.array([p["lx"], p["ly"], p["lz"]])
+    return np.array([p["E"], p["N"], p["U"]]) + sign * (R_nav @ lever if rotate else lever)
+
+
+nav_centre = Exercise(
+    params_name="p_nav_x0", scenario="col.nav-rotation",
+    id="col.nav-centre", points=2, kind="array", answer="X0_cam",
+    title="Step 2 of 3: the projection centre from the antenna and the lever arm (Hebelarm)",
+    statement=_NAV_TEXT + "The GNSS antenna is at (E, N, U) = ({E}, {N}, {U}) m; the lever "
+              "arm (Hebelarm) from the projection centre to the antenna is "
+              "({lx}, {ly}, {lz}) m in the body frame (x forward, y right, z down). With "
+              "$R_{{nav}}$ = {R_nav} (body → object, from step 1's attitude), compute the "
+              "projection centre $\\mathbf X_0$ in m as an array of shape (3,), to 1 mm.",
+    parameters=_nav_scenario, reference=_nav_centre, tolerance=PRINTED, rtol=1e-6, atol=5e-4,
+    mistakes=(
+        Mistake("sign", "the lever arm points from the camera to the antenna: "
+                        "X0 = antenna − R_nav·lever arm",
+                lambda p: _nav_centre(p, sign=1.0)),
+        Mistake("lever-frame", "the lever arm is given in the body frame: rotate it into the "
+                               "object frame with R_nav before subtracting it",
+                lambda p: _nav_centre(p, rotate=False)),
+        Mistake("transposed", "R_nav turns body vectors into the object frame: R_nav·l, not "
+                              "R_navᵀ·l", lambda p: _nav_centre(p, transpose=True)),
+        Mistake("lever-arm", "the antenna is not the projection centre: subtract the lever "
+                             "arm", lambda p: np.array([p["E"], p["N"], p["U"]])),
+    ))
+
+
+def _nav_image(p, transpose=False, centre=None):
+    R = np.array(p["R"])
+    X0 = np.array(p["X0"]) if centre is None else centre
+    kx, ky, N = (R if transpose else R.T) @ (np.array([p["X"], p["Y"], p["Z"]]) - X0)
+    return -p["c_mm"] * np.array([kx, ky]) / N
+
+
+nav_image = Exercise(
+    params_name="p_nav_xy", scenario="col.nav-rotation",
+    id="col.nav-image", points=2, kind="array", answer="xy_nav",
+    title="Step 3 of 3: the image point of a ground point, directly georeferenced",
+    statement="With the exterior orientation of steps 1 and 2, $\\mathbf X_0$ = {X0} m and "
+              "$R$ = {R}, and the camera constant $c$ = {c_mm} mm (principal point at the "
+              "origin, no distortion), compute the image coordinates $(x', y')$ in mm of the "
+              "ground point X = ({X}, {Y}, {Z}) m, to 0.001 mm, as an array of shape (2,).",
+    parameters=_nav_scenario, reference=lambda p: _nav_image(p), tolerance=PRINTED,
+    rtol=0.0, atol=5e-5,
+    mistakes=(
+        Mistake("transposed", "Rᵀ and R are swapped: (kx, ky, N) = Rᵀ(X − X0)",
+                lambda p: _nav_image(p, transpose=True)),
+        Mistake("sign-c", hints.MESSAGES["sign-c"], lambda p: -_nav_image(p)),
+        Mistake("lever-arm", "the antenna is not the projection centre: use X0 of step 2",
+                lambda p: _nav_image(p, centre=np.array([p["E"], p["N"], p["U"]]))),
+    ))
+
+
+# -- 6. scenario: refraction and earth curvature (3 steps) -------------------------------------
+def _ardc(H_m, h_m):
+    Hk, hk = H_m / 1000.0, h_m / 1000.0
+    return (2410.0 * Hk / (Hk**2 - 6.0 * Hk + 250.0)
+            - 2410.0 * hk**2 / ((hk**2 - 6.0 * hk + 250.0) * Hk)) * 1e-6
+
+
+def _refraction_scenario(rng):
+    import photolib as pl
+    nz = _last_digit_nonzero
+    h = nz(float(rng.uniform(100.0, 1200.0)), 2)
+    p = {"h_m": h, "H_m": nz(h + float(rng.uniform(2000.0, 7000.0)), 2),
+         "c_mm": nz(float(rng.uniform(100.0, 160.0)), 4),
+         "X0": nz(float(rng.uniform(2000.0, 8000.0)), 3),
+         "Y0": nz(float(rng.uniform(2000.0, 8000.0)), 3),
+         "omega_deg": nz(float(rng.uniform(-1.0, 1.0)), 5),
+         "phi_deg": nz(float(rng.uniform(-1.0, 1.0)), 5),
+         "kappa_deg": nz(float(rng.uniform(0.0, 360.0)), 5)}
+    p["Z0"] = p["H_m"]
+    r = float(rng.uniform(70.0, 110.0))
+    a = float(rng.uniform(0.0, 2.0 * math.pi))
+    p.update(x=nz(r * math.cos(a), 4), y=nz(r * math.sin(a), 4))
+    K = _ardc(p["H_m"], p["h_m"])
+    p["K_urad"] = nz(K * 1e6, 4)
+    xy = pl.earth_curvature_correction(pl.refraction_correction([p["x"], p["y"]], p["c_mm"],
+                                                                p["K_urad"] * 1e-6),
+                                       p["c_mm"], p["H_m"] - p["h_m"])
+    p.update(xc=nz(float(xy[0]), 5), yc=nz(float(xy[1]), 5),
+             Zg=nz(h + float(rng.uniform(-20.0, 20.0)), 3))
+    return p
+
+
+refraction_constant = Exercise(
+    params_name="p_refr_k", scenario="col.refraction-constant",
+    id="col.refraction-constant", points=2, kind="number", answer="K_urad",
+    title="Step 1 of 3: the refraction constant of the ARDC atmosphere (Refraktionskonstante)",
+    statement="A vertical aerial image is taken from the flying height $H$ = {H_m} m above sea "
+              "level over ground at $h$ = {h_m} m. The ARDC model atmosphere gives the "
+              "refraction constant of $d\\alpha = K\\tan\\alpha$ as "
+              "$K = \\left(\\frac{{2410\\,H}}{{H^2 - 6H + 250}} - \\frac{{2410\\,h^2}}"
+              "{{(h^2 - 6h + 250)\\,H}}\\right)\\cdot 10^{{-6}}$ with $H$, $h$ in km. "
+              "Compute K in µrad (microradians) to 0.01 µrad.",
+    parameters=_refraction_scenario, reference=lambda p: _ardc(p["H_m"], p["h_m"]) * 1e6,
+    tolerance=PRINTED, rtol=0.0, atol=5e-3,
+    mistakes=(
+        Mistake("ground", "the second term, the air below the ground height h, is missing",
+                lambda p: _ardc(p["H_m"], 0.0) * 1e6),
+        Mistake("units-km", "H and h enter the ARDC formula in km, not m",
+                lambda p: _ardc(p["H_m"] * 1000.0, p["h_m"] * 1000.0) * 1e6),
+        Mistake("height-above-ground", "H is the flying height above sea level, not above "
+                                       "the ground",
+                lambda p: _ardc(p["H_m"] - p["h_m"], p["h_m"]) * 1e6
+                if p["H_m"] - p["h_m"] > p["h_m"] else None),
+    ))
+
+
+def _far_enough(wrong, right, distance):
+    """``wrong``, or None where it is within ``distance`` of the right answer (indistinct)."""
+    return wrong if np.max(np.abs(np.asarray(wrong) - right)) > distance else None
+
+
+def _corrected(p, refraction_sign=1.0, curvature_sign=1.0, H=None, curvature=True):
+    c, K = p["c_mm"], p["K_urad"] * 1e-6
+    xy = np.array([p["x"], p["y"]])
+    r2 = xy @ xy
+    height = p["H_m"] - p["h_m"] if H is None else H
+    out = xy * (1.0 - refraction_sign * K * (1.0 + r2 / c**2))
+    if curvature:
+        out = out * (1.0 + curvature_sign * (out @ out) * height / (2.0 * 6371000.0 * c**2))
+    return out
+
+
+refraction_corrected = Exercise(
+    params_name="p_refr_xy", scenario="col.refraction-constant",
+    id="col.refraction-corrected", points=2, kind="array", answer="xy_corrected",
+    title="Step 2 of 3: image coordinates corrected for refraction and earth curvature",
+    statement="The camera constant is $c$ = {c_mm} mm; the measured image point, reduced to "
+              "the principal point and corrected for distortion, is $(x', y')$ = ({x}, {y}) mm. "
+              "With step 1's refraction constant $K$ = {K_urad} µrad, flying height "
+              "$H$ = {H_m} m and ground height $h$ = {h_m} m: refraction moved the point "
+              "outwards by $\\Delta r' = K(r' + r'^3/c^2)$, earth curvature (earth radius "
+              "6371 km) moved it towards the nadir by $\\Delta r' = r'^3 (H - h)/(2 R c^2)$. "
+              "Remove both (refraction first) and give the corrected $(x', y')$ in mm as an "
+              "array of shape (2,), to 0.0001 mm (0.1 µm).",
+    parameters=_refraction_scenario, reference=lambda p: _corrected(p), tolerance=PRINTED,
+    rtol=0.0, atol=5e-5,
+    mistakes=(
+        Mistake("sign-refraction", "refraction moved the image outwards: the correction "
+                                   "moves it back in, x·(1 − K(1 + r'²/c²))",
+                lambda p: _corrected(p, refraction_sign=-1.0)),
+        Mistake("sign-curvature", "earth curvature moved the image towards the nadir: the "
+                                  "correction moves it back out, x·(1 + r'²(H − h)/(2Rc²))",
+                lambda p: _corrected(p, curvature_sign=-1.0)),
+        Mistake("curvature", "the earth curvature correction is missing",
+                lambda p: _corrected(p, curvature=False)),
+        Mistake("height-above-ground", "the curvature correction uses the flying height above "
+                                       "the ground, H − h",
+                lambda p: _far_enough(_corrected(p, H=p["H_m"]), _corrected(p), 5e-4)),
+        Mistake("units-urad", "K is in µrad: multiply by 10⁻⁶ before using it",
+                lambda p: _corrected(p | {"K_urad": p["K_urad"] * 1e-6})),
+    ))
+
+
+def _refraction_ground(p, corrected=True, transpose=False, c_sign=1.0):
+    R = _rotation(p)
+    R = R.T if transpose else R
+    xy = (p["xc"], p["yc"]) if corrected else (p["x"], p["y"])
+    ray = R @ np.array([xy[0], xy[1], -c_sign * p["c_mm"]])
+    return np.array([p["X0"], p["Y0"], p["Z0"]]) + (p["Zg"] - p["Z0"]) / ray[2] * ray
+
+
+refraction_ground = Exercise(
+    params_name="p_refr_gp", scenario="col.refraction-constant",
+    id="col.refraction-ground", points=2, kind="array", answer="X_ground",
+    title="Step 3 of 3: the object point of the corrected ray on a given height",
+    statement="The image has the exterior orientation $\\mathbf X_0$ = ({X0}, {Y0}, {Z0}) m, "
+              "$\\omega$ = {omega_deg}°, $\\varphi$ = {phi_deg}°, $\\kappa$ = {kappa_deg}° and "
+              "$c$ = {c_mm} mm. Step 2's corrected image point is $(x', y')$ = ({xc}, {yc}) mm "
+              "(reduced to the principal point). Intersect its ray with the plane Z = {Zg} m "
+              "and give the object point (X, Y, Z) in m to 0.01 m, as an array of shape (3,).",
+    parameters=_refraction_scenario, reference=lambda p: _refraction_ground(p),
+    tolerance=PRINTED, rtol=1e-6, atol=5e-3,
+    mistakes=(
+        Mistake("uncorrected", "these are the measured, uncorrected coordinates: use step 2's "
+                               "corrected ones",
+                lambda p: _refraction_ground(p, corrected=False)),
+        Mistake("transposed", "the ray in the object frame is R·x*, not Rᵀ·x*",
+                lambda p: _refraction_ground(p, transpose=True)),
+        Mistake("sign-c", hints.MESSAGES["sign-c"],
+                lambda p: _refraction_ground(p, c_sign=-1.0)),
+    ))
+
+
+EXERCISES = (project, partial_derivative, dy_dphi, ground_point, nav_rotation, nav_centre,
+             nav_image, refraction_constant, refraction_corrected, refraction_ground)
