@@ -226,3 +226,13 @@ def test_snoop_scenario_steps_build_on_each_other(sid):
     assert _judge(s2, sid, round(w, 2)).status == "correct"
     assert _judge(s3, sid, round(tau, 2)).status == "correct"
     assert _judge(s2, sid, round(tau, 2)).mistake == "sigma-posteriori"
+
+
+@pytest.mark.parametrize("ident, digits", [("bun.sigma0", 2), ("bun.snoop-sigma0", 2),
+                                           ("bun.snoop-w", 2), ("bun.snoop-tau", 2),
+                                           ("bun.critical-t", 3)])
+def test_answers_rounded_as_the_statement_asks_are_accepted(ident, digits):
+    ex = BY_ID[ident]
+    for sid in (f"s{i}" for i in range(150)):
+        value = round(ex.reference(parameters_for(ex, sid)), digits)
+        assert _judge(ex, sid, value).status == "correct", (sid, value)

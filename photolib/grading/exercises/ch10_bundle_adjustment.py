@@ -68,8 +68,8 @@ redundancy = Exercise(
     title="Unknowns and redundancy of a block / Redundanz eines Bildverbands",
     statement="A block of {images} images and {points} object points; {rays} image points "
               "are measured (each point in two or more images). Datum: {datum_text}; "
-              "{interior_text}. How large is the redundancy r = n − u + d of the bundle "
-              "adjustment (n observations, u unknowns, d datum defect)?",
+              "{interior_text}. How large is the redundancy $r = n - u + d$ of the bundle "
+              "adjustment ($n$ observations, $u$ unknowns, $d$ datum defect)?",
     parameters=_block_params, reference=_redundancy, rtol=0.0, atol=1e-9,
     mistakes=(
         Mistake("interior", "the interior orientation parameters estimated by "
@@ -103,9 +103,9 @@ sigma0 = Exercise(
     params_name="p_sigma0",
     id="bun.sigma0", points=2, kind="number", answer="s0",
     title="σ0 from the residuals / Standardabweichung der Gewichtseinheit",
-    statement="An adjustment with equal weights has n = {n} observations and u = {u} "
-              "unknowns (no datum defect). Its residuals are v = {v} µm. Compute the "
-              "a-posteriori standard deviation σ0 (µm).",
+    statement="An adjustment with equal weights has $n = {n}$ observations and $u = {u}$ "
+              "unknowns (no datum defect). Its residuals are $v = {v}$ µm. Compute the "
+              "a-posteriori standard deviation $\\hat\\sigma_0$ in µm (to 0.01 µm).",
     # the rounding of the printed residuals (0.1 µm); the old 1e-6 rejected σ0 given to
     # 0.001 µm. The divisor mistakes stay ≥ 0.1 µm away and keep their hints.
     parameters=_sigma0_params, reference=_sigma0,
@@ -154,9 +154,9 @@ redundancy_sum = Exercise(
     few_variants="a multiple choice of four options: four correct answers at most", points=1, kind="choice", answer="choice_sum",
     title="Redundancy numbers / Redundanzanteile",
     statement="A free network (no control points, inner constraints) of {images} images and "
-              "{points} new points has n = {n} observations and fixed interior orientation. "
-              "Its redundancy numbers r_i = (Q_vv P)_ii sum to {options}. Set the answer to "
-              "the letter.",
+              "{points} new points has $n = {n}$ observations and fixed interior orientation. "
+              "Its redundancy numbers $r_i = (Q_{{vv}}P)_{{ii}}$ sum to {options}. Set the "
+              "answer to the letter.",
     parameters=_sum_params, reference=lambda p: p["correct"],
     choices={"a": "first option", "b": "second option", "c": "third option",
              "d": "fourth option"},
@@ -185,9 +185,10 @@ critical_t = Exercise(
     params_name="p_t",
     id="bun.critical-t", points=2, kind="number", answer="k",
     title="Critical value of the t test / Kritischer Wert (t-Verteilung)",
-    statement="σ0 of a small adjustment is estimated with r = {dof} degrees of freedom. A "
-              "residual is tested two-sided at significance level α = {alpha} with Student's "
-              "t: give the critical value k with P(|T| > k) = α (three decimals suffice).",
+    statement="$\\hat\\sigma_0$ of a small adjustment is estimated with $r = {dof}$ degrees "
+              "of freedom. A residual is tested two-sided at significance level "
+              "$\\alpha = {alpha}$ with Student's t: give the critical value $k$ with "
+              "$P(|T| > k) = \\alpha$ (three decimals suffice).",
     # α is one of the conventional levels 0.1, 0.05, 0.01, 0.001: exact as printed
     parameters=_critical_params, reference=_critical, tolerance=PRINTED, exact=("alpha",),
     rtol=0.0, atol=1.5e-3,
@@ -229,10 +230,11 @@ normal_contribution = Exercise(
     few_variants="a function of its arguments alone (σ0 = 1 mm for all): one answer, "
                  "tested on rows drawn per student",
     title="One observation in the normal equations / Beitrag zur Normalgleichungsmatrix",
-    statement="An image coordinate with standard deviation σ (mm, a priori; σ0 = 1 mm) has "
-              "the row a of the design matrix A ({u} unknowns here, typically "
-              "σ ≈ {sigma_um} µm). Write contribution(a, sigma) returning its contribution "
-              "to N = AᵀPA, a NumPy array of shape (u, u). It is tested on rows you do not see.",
+    statement="An image coordinate with standard deviation $\\sigma$ (mm, a priori; "
+              "$\\sigma_0 = 1$ mm) has the row $a$ of the design matrix $A$ ({u} unknowns here, "
+              "typically $\\sigma \\approx {sigma_um}$ µm). Write `contribution(a, sigma)` "
+              "returning its contribution $a^T p\\, a$ to $N = A^TPA$, a NumPy array of shape "
+              "$(u, u)$, to $10^{{-6}}$. It is tested on rows you do not see.",
     parameters=_contribution_params, reference=_contribution(), cases=_contribution_cases,
     # rtol 1e-6 accepts float32 (the old 1e-9 did not)
     rtol=1e-6, atol=1e-6,
