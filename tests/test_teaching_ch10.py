@@ -79,3 +79,28 @@ def test_schur_step_is_the_dense_normal_equation_step(seed):
     assert np.allclose(dy.reshape(-1), dx[:6 * M], rtol=0, atol=1e-9 * scale)
     assert np.allclose(dp[new].reshape(-1), dx[6 * M:], rtol=0, atol=1e-9 * scale)
     assert np.all(dp[control] == 0)
+
+
+def test_teaching_bundle_on_real_chessboard_views_is_photolibs():
+    """Eight of OpenCV's chessboard views (corners by cornerSubPix), other control points and
+    start values than the notebook's; photolib applies the distortion in its model."""
+    from photolib.nb import realdata as nbr
+    cal = nbr.chessboard_calibration()
+    io = cal.result
+    views = [1, 2, 4, 6, 7, 9, 11, 13]
+    N = len(cal.object_points)
+    img, pt = np.repeat(np.arange(len(views)), N), np.tile(np.arange(N), len(views))
+    raw = np.vstack([cal.xy[v] for v in views])
+    ideal = io.distortion.correct(raw - [io.x0, io.y0])
+    control = np.array([4, 22, 45, 53])
+    start = cal.object_points + np.random.default_rng(11).normal(0.0, 2.0, (N, 3))
+    start[control] = cal.object_points[control]
+    ext0 = io.exterior[views] + np.r_[5.0, -5.0, 10.0, 0.01, -0.01, 0.02]
+    ext, pts, _ = CODE["bundle"](ideal, img, pt, ext0, start, io.c, control)
+    res = pl.bundle_adjustment(raw, img, pt, ext0, start, io.c, io.x0, io.y0, io.distortion,
+                               control=control)
+    assert np.allclose(ext, res.exterior, rtol=0, atol=1e-9 * 500)
+    assert np.allclose(pts, res.points, rtol=0, atol=1e-9 * 500)
+    sigma0, rn, _, _ = CODE["bundle_statistics"](ideal, img, pt, ext, pts, io.c, control)
+    assert sigma0 == pytest.approx(res.sigma0, rel=1e-9)
+    assert np.allclose(rn, res.redundancy_numbers, rtol=0, atol=1e-9)
