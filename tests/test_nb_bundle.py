@@ -239,3 +239,18 @@ def test_flat_block_has_the_same_images_on_a_plane():
     hilly, flat = nbb.simulate_block(flat=False), nbb.simulate_block(flat=True)
     np.testing.assert_array_equal(flat.exterior, hilly.exterior)
     assert np.all(flat.points[:, 2] == 20.0) and np.ptp(hilly.points[:, 2]) > 10
+
+
+def test_blunder_report_cache_is_the_adjustment_of_those_inputs():
+    """The explorer's cached adjustment (a slider moved back redraws without adjusting) is
+    the adjustment of the blundered block, done here without the cache."""
+    block, clean = nbb._clean(6)
+    rep = nbb.blunder_report(37.0, 120)
+    res, _ = nbb.adjust(block, 6, blunder=(120, 0, 0.037), start=(clean.exterior, clean.points))
+    np.testing.assert_array_equal(rep["result"].residuals, res.residuals)
+    assert rep["result"].sigma0 == res.sigma0
+    again = nbb.blunder_report(37.0, 120)
+    assert again["result"] is rep["result"] and again["html"] == rep["html"]
+    other = nbb.blunder_report(38.0, 120)
+    assert other["result"] is not rep["result"]
+    assert other["result"].sigma0 != rep["result"].sigma0

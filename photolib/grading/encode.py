@@ -305,8 +305,8 @@ def decode_value(data, _depth=0):
             return _sympy_tree(data.get("v"), sp, count)
         shape, values = data.get("shape"), data.get("v")
         if (not isinstance(shape, list) or len(shape) != 2 or not isinstance(values, list)
-                or not all(isinstance(n, int) and 0 < n <= 20 for n in shape)
-                or shape[0] * shape[1] != len(values)):
+                or not all(isinstance(n, int) and n > 0 for n in shape)
+                or shape[0] * shape[1] != len(values) or len(values) > 400):  # as encoded
             raise DecodeError("matrix answer with inconsistent shape")
         return sp.Matrix(shape[0], shape[1], [_sympy_tree(v, sp, count) for v in values])
     if kind == "list":

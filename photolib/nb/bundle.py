@@ -229,6 +229,19 @@ def _clean(n_control: int):
     return block, res
 
 
+@functools.lru_cache(maxsize=256)
+def _blunder_adjustment(blunder_um: float, k: int, alpha: float, n_control: int):
+    """The block adjusted with ``blunder_um`` on x′ of observation k (from the clean solution)
+    and its τ and w snooping; cached, so that a slider moved back to a value redraws without
+    adjusting again (the results are read, never changed)."""
+    block, clean = _clean(n_control)
+    res, _ = adjust(block, n_control, blunder=(k, 0, blunder_um * 1e-3),
+                    start=(clean.exterior, clean.points))
+    tau = bd.data_snooping(res, alpha)
+    w = bd.data_snooping(res, alpha, sigma=block.noise_um * 1e-3)
+    return res, tau, w
+
+
 def blunder_report(blunder_um: float = 30.0, observation: int = 157, alpha: float = 0.001,
                    n_control: int = 6) -> dict:
     """Adjust the chapter's block with a gross error on x' of one observation; snoop.
@@ -243,12 +256,9 @@ def blunder_report(blunder_um: float = 30.0, observation: int = 157, alpha: floa
     >>> rep["found"], rep["w"].worst
     (True, (157, 0))
     """
-    block, clean = _clean(int(n_control))
+    block, _ = _clean(int(n_control))
     k = int(np.clip(round(observation), 0, len(block.xy) - 1))
-    res, _ = adjust(block, n_control, blunder=(k, 0, blunder_um * 1e-3),
-                    start=(clean.exterior, clean.points))
-    tau = bd.data_snooping(res, alpha)
-    w = bd.data_snooping(res, alpha, sigma=block.noise_um * 1e-3)
+    res, tau, w = _blunder_adjustment(float(blunder_um), k, float(alpha), int(n_control))
     found = tau.worst == (k, 0)
     verdict = ("<b style='color:#2ca02c'>found: the largest |τ| is the blundered x′</b>" if found
                else ("<b style='color:#b00'>another observation is flagged worst</b>"

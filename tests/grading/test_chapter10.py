@@ -140,3 +140,99 @@ def test_normal_contribution_float32_and_micrometre_hint(sid):
     assert _judge(ex, sid, f32).status == "correct"
     verdict = _judge(ex, sid, lambda a, s: np.outer(a, a) / (1000.0 * s) ** 2)
     assert verdict.mistake == "units-um"
+
+
+# -- the new exercises: references by an independent route ----------------------------------------
+
+def test_tiny_block_design_matrix_is_the_numerical_derivative():
+    """A of the tiny blocks against central differences of pl.project in every unknown."""
+    import photolib as pl
+    rng = np.random.default_rng(3)
+    x, A, ell, _ = ch10.tiny_block(rng, points=6, control=3, images=3, noise=False)
+    new = np.arange(6) >= 3
+
+    def computed(xv):
+        ext = xv[:18].reshape(3, 6)
+        pts = np.zeros((6, 3))
+        pts[new] = xv[18:].reshape(-1, 3)
+        pts[~new] = control
+        return np.concatenate([pl.project(pts, e[:3], pl.rotation_opk(*e[3:]), 35.0).ravel()
+                               for e in ext])
+    # the control points (fixed, not in x): the first draws of the same generator
+    rng = np.random.default_rng(3)
+    control = np.column_stack([rng.uniform(-5, 5, 6), rng.uniform(-5, 5, 6),
+                               rng.uniform(-1.5, 1.5, 6)])[:3]
+    h = 1e-6
+    numeric = np.column_stack([(computed(x + h * e) - computed(x - h * e)) / (2 * h)
+                               for e in np.eye(len(x))])
+    np.testing.assert_allclose(numeric, A, rtol=0, atol=1e-6 * np.abs(A).max())
+
+
+@pytest.mark.parametrize("sid", STUDENTS[:3])
+def test_gauss_newton_step_is_a_weighted_lstsq(sid):
+    ex = BY_ID["bun.gauss-newton-step"]
+    p = parameters_for(ex, sid)
+    f = ex.reference(p)
+    cases = ex.cases(rng_for(sid, ex.id, "hidden"), p)
+    for x, A, ell, sigma in cases[:3]:
+        dx, *_ = np.linalg.lstsq(A / sigma[:, None], ell / sigma, rcond=None)
+        np.testing.assert_allclose(f(x, A, ell, sigma), x + dx, rtol=0, atol=1e-9)
+    x, A, ell, sigma = cases[3]                        # the free network
+    assert np.linalg.svd(A / sigma[:, None], compute_uv=False)[-7] < 1e-10 * np.abs(A).max()
+    with pytest.raises(ValueError, match="singular normal matrix"):
+        f(x, A, ell, sigma)
+
+
+@pytest.mark.parametrize("sid", STUDENTS[:3])
+def test_sigma0_redundancy_by_the_dense_qvv(sid):
+    ex = BY_ID["bun.sigma0-redundancy"]
+    p = parameters_for(ex, sid)
+    f = ex.reference(p)
+    cases = ex.cases(rng_for(sid, ex.id, "hidden"), p)
+    for A, sigma, v in cases[:3]:
+        P = np.diag(1.0 / sigma**2)
+        Qvv = np.linalg.inv(P) - A @ np.linalg.pinv(A.T @ P @ A) @ A.T
+        n, u = A.shape
+        got = f(A, sigma, v)
+        assert got[0] == pytest.approx(math.sqrt(v @ P @ v / (n - u)), rel=1e-10)
+        np.testing.assert_allclose(got[1:], np.diag(Qvv @ P), rtol=0, atol=1e-9)
+        assert got[1:].sum() == pytest.approx(n - u, abs=1e-8)
+        assert np.abs(A.T @ P @ v).max() < 1e-6 * np.abs(A.T @ P).max()   # v adjusted
+    A, sigma, v = cases[3]
+    assert A.shape[0] == A.shape[1]
+    with pytest.raises(ValueError, match="redundancy"):
+        f(A, sigma, v)
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_count_scenario_agrees_with_the_derived_block_redundancy(sid):
+    steps = [BY_ID[i] for i in ("bun.count-n", "bun.count-u", "bun.count-r")]
+    p = parameters_for(steps[0], sid)
+    assert all(parameters_for(s, sid) == p for s in steps)
+    n, u, r = (s.reference(p) for s in steps)
+    assert (n, u) == (p["n"], p["u"])
+    assert r == ch10._redundancy(p)                # photolib.derive.adjustment.block_redundancy
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_snoop_scenario_steps_build_on_each_other(sid):
+    s1, s2, s3 = (BY_ID[i] for i in ("bun.snoop-sigma0", "bun.snoop-w", "bun.snoop-tau"))
+    p = parameters_for(s1, sid)
+    v = np.array(p["v"])
+    assert p["s0"] == round(s1.reference(p), 3) == round(math.sqrt(v @ v / (p["n"] - p["u"])), 3)
+    assert p["vk"] == p["v"][p["k"] - 1]
+    w, tau = s2.reference(p), s3.reference(p)
+    assert tau == pytest.approx(w * p["sigma"] / p["s0"], rel=1e-12)
+    assert _judge(s2, sid, round(w, 2)).status == "correct"
+    assert _judge(s3, sid, round(tau, 2)).status == "correct"
+    assert _judge(s2, sid, round(tau, 2)).mistake == "sigma-posteriori"
+
+
+@pytest.mark.parametrize("ident, digits", [("bun.sigma0", 2), ("bun.snoop-sigma0", 2),
+                                           ("bun.snoop-w", 2), ("bun.snoop-tau", 2),
+                                           ("bun.critical-t", 3)])
+def test_answers_rounded_as_the_statement_asks_are_accepted(ident, digits):
+    ex = BY_ID[ident]
+    for sid in (f"s{i}" for i in range(150)):
+        value = round(ex.reference(parameters_for(ex, sid)), digits)
+        assert _judge(ex, sid, value).status == "correct", (sid, value)
