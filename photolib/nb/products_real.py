@@ -16,6 +16,7 @@ import numpy as np
 
 import photolib as pl
 from photolib import image_mosaic as im
+from photolib.nb.live import Explorer, LiveFigure, slider
 from photolib.rectify import rectify_image
 
 __all__ = ["AERIAL", "DOWNSAMPLE", "MosaicZoom", "aerial_images", "measure_tie_points",
@@ -29,7 +30,7 @@ DOWNSAMPLE = 2
 #: ORB features per image and Lowe's ratio
 N_FEATURES, RATIO = 2500, 0.8
 #: RANSAC inlier bound (px of the reduced images): 3 × the ORB precision measured below
-THRESHOLD = 2.0
+THRESHOLD = 2.2
 
 
 def _cv2():
@@ -89,7 +90,7 @@ def synthetic_precision(image, seed: int = 0, n_features: int = N_FEATURES):
 
     The image is resampled by photolib (bilinear) under a known mild projective
     transformation T; ORB measures tie points between the image and its copy, and the
-    residuals ``T(p) − p'`` of the correct matches (< 3 px) are measurement error only —
+    residuals ``T(p) − p'`` of the correct matches (within the RANSAC bound ``THRESHOLD``) are measurement error only —
     no relief, no lens: the precision the real residuals are to be judged against.
     """
     rng = np.random.default_rng(seed)
@@ -105,7 +106,7 @@ def synthetic_precision(image, seed: int = 0, n_features: int = N_FEATURES):
     copy = np.clip(np.round(copy), 0, 255).astype(np.uint8)
     p, q = measure_tie_points(image, copy, n_features)
     v = T(p) - q
-    ok = np.hypot(v[:, 0], v[:, 1]) < 3.0
+    ok = np.hypot(v[:, 0], v[:, 1]) < THRESHOLD
     v = v[ok]
     sigma = float(np.sqrt(np.sum(v**2) / (2 * len(v))))
     return sigma, int(ok.sum())
@@ -197,59 +198,61 @@ def plot_tie_residuals(mos, block, scale: float = 50.0, ax=None):
     return fig
 
 
-class MosaicZoom:
-    """Zoom into the mosaic: a window of the mosaic beside the same window of each image.
+class MosaicZoom(Explorer):
+    """Zoom into the mosaic: a window of the mosaic beside the image each pixel comes from.
 
-    Sliders move the window centre (X, Y, px of image 1) and its size; the panels show
-    which image the mosaic takes there and how the seam joins the images.
+    Sliders move the window centre (X, Y in px of image 1) and its half size; across a seam
+    line the right panel changes colour and the left one shows how the images join.
     """
 
+    title = "mosaic zoom"
+
     def __init__(self, mos, half: int = 60):
-        import ipywidgets as w
-        import matplotlib.pyplot as plt
         self.mos = mos
         ext = mos.extent
-        self.x = w.IntSlider(value=int(mos.centres[:, 0].mean()), min=int(ext[0]),
-                             max=int(ext[1]), step=5, description="X (px)")
-        self.y = w.IntSlider(value=int(mos.centres[:, 1].mean()), min=int(ext[2]),
-                             max=int(ext[3]), step=5, description="Y (px)")
-        self.half = w.IntSlider(value=half, min=15, max=200, step=5, description="half size")
-        self.out = w.Output()
-        with self.out:
-            self.fig, (self.ax, self.ax2) = plt.subplots(1, 2, figsize=(9, 4.2))
-            self.img = self.ax.imshow(np.zeros((2, 2)), cmap="gray", vmin=0, vmax=255,
-                                      interpolation="nearest")
-            self.src = self.ax2.imshow(np.zeros((2, 2)), cmap="tab10", vmin=0, vmax=9,
-                                       interpolation="nearest")
-            self.ax.set_title("mosaic (zoom)")
-            self.ax2.set_title("source image (colour = image number − 1)")
-            plt.show()
-        for s in (self.x, self.y, self.half):
-            s.observe(lambda _: self.update(), names="value")
-        self.update()
-        self.widget = w.VBox([w.HBox([self.x, self.y, self.half]), self.out])
+        cx, cy = (float(np.round(v / 5.0) * 5.0) for v in mos.centres[:2].mean(axis=0))
+        self.controls = {"X": slider("X [px]", cx, float(np.ceil(ext[0])), float(np.floor(ext[1])),
+                                     5, fmt=".0f"),
+                         "Y": slider("Y [px]", cy, float(np.ceil(ext[2])), float(np.floor(ext[3])),
+                                     5, fmt=".0f"),
+                         "half": slider("half size [px]", float(half), 15, 200, 5, fmt=".0f")}
+        self.live = LiveFigure((8.0, 3.8))
+        ax, ax2 = self.live.figure.subplots(1, 2)
+        self._img = ax.imshow(np.zeros((2, 2)), cmap="gray", vmin=0, vmax=255,
+                              interpolation="nearest")
+        self._src = ax2.imshow(np.zeros((2, 2)), cmap="tab10", vmin=0, vmax=9,
+                               interpolation="nearest")
+        ax.set_title("mosaic (zoom)")
+        ax2.set_title("source image (colour)")
+        for a in (ax, ax2):
+            a.grid(False)
+        for a in (self._img, self._src):
+            self.live.animate(a)
+        self._finish()
 
-    def window(self):
-        c, r = self.mos.pixel(np.array([self.x.value, self.y.value], float))
-        h = int(self.half.value / self.mos.pixel_size)
+    def window(self, X, Y, half):
+        """Row and column slices of the mosaic around (X, Y)."""
+        c, r = self.mos.pixel(np.array([X, Y], float))
+        h = int(half / self.mos.pixel_size)
         rows, cols = self.mos.mosaic.shape
-        r0, r1 = max(int(r) - h, 0), min(int(r) + h, rows)
-        c0, c1 = max(int(c) - h, 0), min(int(c) + h, cols)
-        return slice(r0, max(r1, r0 + 1)), slice(c0, max(c1, c0 + 1))
+        r0, c0 = min(max(int(r) - h, 0), rows - 1), min(max(int(c) - h, 0), cols - 1)
+        return slice(r0, max(min(int(r) + h, rows), r0 + 1)), slice(c0, max(min(int(c) + h, cols), c0 + 1))
 
-    def update(self):
-        rs, cs = self.window()
+    def draw(self, X, Y, half) -> str:
+        rs, cs = self.window(X, Y, half)
         m = self.mos.mosaic[rs, cs]
-        self.img.set_data(np.where(np.isfinite(m), m, 255))
-        self.img.set_extent((-0.5, m.shape[1] - 0.5, m.shape[0] - 0.5, -0.5))
+        ext = (cs.start - 0.5, cs.stop - 0.5, rs.stop - 0.5, rs.start - 0.5)
+        self._img.set_data(np.where(np.isfinite(m), m, 255))
+        self._img.set_extent(ext)
         s = self.mos.source[rs, cs]
-        self.src.set_data(np.ma.masked_less(s, 0))
-        self.src.set_extent((-0.5, s.shape[1] - 0.5, s.shape[0] - 0.5, -0.5))
-        self.fig.canvas.draw_idle()
-
-    def _ipython_display_(self):
-        from IPython.display import display
-        display(self.widget)
+        self._src.set_data(np.ma.masked_less(s, 0))
+        self._src.set_extent(ext)
+        for a in self.live.figure.axes:
+            a.set_xlim(ext[0], ext[1])
+            a.set_ylim(ext[2], ext[3])
+        used = sorted(int(k) + 1 for k in np.unique(s) if k >= 0)
+        return (f"window {m.shape[1]} × {m.shape[0]} px at X = {X:.0f}, Y = {Y:.0f}<br>"
+                f"from image(s): {', '.join(map(str, used)) or 'none'}")
 
 
 # -- structure from motion in outline (a simulated sequence) --------------------------------------

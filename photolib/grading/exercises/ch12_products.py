@@ -284,11 +284,14 @@ def _dr_params(rng):
     return {"c_mm": round(float(rng.uniform(40.0, 60.0)), 2), "pixel_mm": 0.05,
             "x0_mm": round(float(rng.uniform(-0.2, 0.2)), 3),
             "y0_mm": round(float(rng.uniform(-0.2, 0.2)), 3),
-            "X0": round(float(rng.uniform(100.0, 900.0)), 2),
-            "Y0": round(float(rng.uniform(100.0, 900.0)), 2),
+            # the projection centre near (500, 500) and tilts within ±0.1°, so that the
+            # public test grid below lies in the small image of every variant (the variant
+            # count runs one student's inputs through all variants' references)
+            "X0": round(float(rng.uniform(499.5, 500.5)), 2),
+            "Y0": round(float(rng.uniform(499.5, 500.5)), 2),
             "Z0": round(float(rng.uniform(180.0, 260.0)), 2),
-            "omega_deg": round(float(rng.uniform(-2.0, 2.0)), 3),
-            "phi_deg": round(float(rng.uniform(-2.0, 2.0)), 3),
+            "omega_deg": round(float(rng.uniform(-0.1, 0.1)), 3),
+            "phi_deg": round(float(rng.uniform(-0.1, 0.1)), 3),
             "kappa_deg": round(float(rng.uniform(0.0, 360.0)), 3),
             "width": _DR_SIZE[0], "height": _DR_SIZE[1]}
 
@@ -315,7 +318,7 @@ def _dr_function(transpose=False, swap=False, constant_n=False, no_pp=False):
                 XY = pl.rectify.output_grid(Z.shape, origin, spacing)
                 XYZ = np.concatenate([XY, Z[..., None]], -1).reshape(-1, 3)
                 k = (XYZ - X0) @ R
-                N = -(p["Z0"] - float(Z.mean()))
+                N = -p["Z0"]                       # the flying height above the datum
                 xy = np.column_stack([x0 - p["c_mm"] * k[:, 0] / N, y0 - p["c_mm"] * k[:, 1] / N])
                 cr = pl.pixel_from_image(xy, p["width"], p["height"], p["pixel_mm"])
                 cr = cr.reshape(Z.shape + (2,))
@@ -341,10 +344,14 @@ def _dr_cases(rng, p):
     gsd = p["pixel_mm"] * (p["Z0"] - 20.0) / p["c_mm"]
     spacing = round(0.8 * gsd, 2)
     shape = (5, 6)
-    origin = (round(p["X0"] - 2.5 * spacing, 2), round(p["Y0"] + 2.0 * spacing, 2))
-    g0 = float(rng.uniform(5.0, 25.0))
-    XY = np.stack(np.meshgrid(np.arange(shape[1]) * spacing, -np.arange(shape[0]) * spacing), -1)
-    plane = np.round(g0 + 0.05 * XY[..., 0] - 0.03 * XY[..., 1], 2)
+    # the grid some 10 px beside the image centre (0.35 of the half height of the footprint),
+    # on ground 15–45 m above the datum (so that one N for all points is visibly wrong)
+    half = 0.5 * (p["height"] - 1) * p["pixel_mm"] * (p["Z0"] - 30.0) / p["c_mm"]
+    origin = (round(p["X0"] + 0.35 * half - 2.5 * spacing, 2),
+              round(p["Y0"] + 2.0 * spacing, 2))
+    g0 = float(rng.uniform(15.0, 35.0))
+    ci, ri = np.meshgrid(np.arange(shape[1]), np.arange(shape[0]))
+    plane = np.round(g0 + 1.6 * ci - 1.0 * ri, 2)
     noisy = np.round(plane + rng.normal(0.0, 0.5, shape), 2)
     far = (round(origin[0] + 40.0 * gsd * 10, 2), origin[1])
     above = np.full(shape, round(p["Z0"] + 10.0, 2))
@@ -381,7 +388,7 @@ diff_rect = Exercise(
                            "(col, row) is image[row, col]; bilinear interpolation needs col "
                            "along the columns", _dr_function(swap=True)),
         Mistake("constant-N", "each ground point has its own N = r₃ᵀ(X − X0): divide kx and "
-                              "ky by the N of that point, not by one flying height for all",
+                              "ky by the N of that point, not by one flying height Z0 for all",
                 _dr_function(constant_n=True)),
         Mistake("principal-point", "the principal point is missing: x' = x'0 − c·kx/N, "
                                    "y' = y'0 − c·ky/N", _dr_function(no_pp=True)),
@@ -391,19 +398,29 @@ diff_rect = Exercise(
 # -- 7. scenario: one ortho cell step by step (three steps) ---------------------------------------
 def _cell_params(rng):
     import photolib as pl
-    p = _dr_params(rng)
-    d = 2.0
-    XA, YA = round(p["X0"] + float(rng.uniform(-4, 4)), 1), round(p["Y0"] + float(rng.uniform(-3, 3)), 1)
-    Zc = [round(float(rng.uniform(5.0, 30.0)), 2) for _ in range(4)]   # Z00 Z10 Z01 Z11
-    u, v = round(float(rng.uniform(0.1, 0.9)), 3), round(float(rng.uniform(0.1, 0.9)), 3)
-    X, Y = round(XA + u * d, 3), round(YA - v * d, 3)
-    Z = (1 - u) * (1 - v) * Zc[0] + u * (1 - v) * Zc[1] + (1 - u) * v * Zc[2] + u * v * Zc[3]
-    Z = round(Z, 3)
-    R = pl.rotation_opk(*[math.radians(p[n]) for n in _ANGLES])
-    xy = pl.project(np.array([X, Y, Z]), np.array([p["X0"], p["Y0"], p["Z0"]]), R, p["c_mm"],
-                    p["x0_mm"], p["y0_mm"])
-    xs, ys = round(float(xy[0]), 4), round(float(xy[1]), 4)
-    g = [round(float(rng.uniform(20, 230)), 0) for _ in range(4)]
+    # drawn again until the swapped and nearest-neighbour mistakes lie well away from the
+    # answers (Z by ≥ 0.05 m, the grey value by ≥ 2)
+    while True:
+        p = _dr_params(rng)
+        d = 2.0
+        XA = round(p["X0"] + float(rng.uniform(-3, 3)), 1)
+        YA = round(p["Y0"] + float(rng.uniform(-2, 2)), 1)
+        Zc = [round(float(rng.uniform(5.0, 30.0)), 2) for _ in range(4)]   # Z00 Z10 Z01 Z11
+        u, v = round(float(rng.uniform(0.1, 0.9)), 3), round(float(rng.uniform(0.1, 0.9)), 3)
+        X, Y = round(XA + u * d, 3), round(YA - v * d, 3)
+        Z = (1 - u) * (1 - v) * Zc[0] + u * (1 - v) * Zc[1] + (1 - u) * v * Zc[2] + u * v * Zc[3]
+        Z = round(Z, 3)
+        R = pl.rotation_opk(*[math.radians(p[n]) for n in _ANGLES])
+        xy = pl.project(np.array([X, Y, Z]), np.array([p["X0"], p["Y0"], p["Z0"]]), R,
+                        p["c_mm"], p["x0_mm"], p["y0_mm"])
+        xs, ys = round(float(xy[0]), 4), round(float(xy[1]), 4)
+        g = [round(float(rng.uniform(20, 230)), 0) for _ in range(4)]
+        q = dict(p, XA=XA, YA=YA, d=d, Z00=Zc[0], Z10=Zc[1], Z01=Zc[2], Z11=Zc[3], X=X, Y=Y,
+                 x_img=xs, y_img=ys, g00=g[0], g10=g[1], g01=g[2], g11=g[3])
+        if (abs(_cell_height(q, True) - _cell_height(q)) >= 0.05
+                and abs(_cell_grey(q, swap=True) - _cell_grey(q)) >= 2.0
+                and abs(_cell_grey(q, nearest=True) - _cell_grey(q)) >= 2.0):
+            break
     p.update({"XA": XA, "YA": YA, "d": d, "Z00": Zc[0], "Z10": Zc[1], "Z01": Zc[2],
               "Z11": Zc[3], "X": X, "Y": Y, "Z": Z, "x_img": xs, "y_img": ys,
               "g00": g[0], "g10": g[1], "g01": g[2], "g11": g[3]})
@@ -458,7 +475,8 @@ cell_height = Exercise(
               "$Z_{{01}} = {Z01:.2f}$ (bottom left), $Z_{{11}} = {Z11:.2f}$ m (bottom right). "
               "Interpolate $Z(X, Y)$ bilinearly, in m to 0.001 m.",
     parameters=_cell_params, reference=_cell_height, tolerance=PRINTED, atol=5e-4,
-    exact=("d",),
+    # the mesh's node and the cell centre are grid positions, exact as printed
+    exact=("d", "XA", "YA", "X", "Y"),
     mistakes=(
         Mistake("swapped", "u belongs to X (along the columns) and v to Y (down the rows): "
                            "u = (X − X_A)/Δ, v = (Y_A − Y)/Δ", lambda p: _cell_height(p, True)),
@@ -522,14 +540,20 @@ def _tie_params(rng):
     k = int(rng.integers(len(_TIE_PAIRS)))
     pair = _TIE_PAIRS[k]
     p_, q, fit = _tie_data(pair)
-    sel = rng.choice(len(p_), 7, replace=False)
+    # the seventh, checked point: one whose residual is at least 0.1 px in each coordinate,
+    # so that the sign mistake (−v) lies well outside an answer rounded to 0.01 px
+    v = fit.transform(p_) - q
+    big = np.flatnonzero(np.all(np.abs(v) >= 0.1, axis=1))
+    sel = rng.choice(len(p_), 6, replace=False)
+    sel = np.r_[sel, rng.choice(np.setdiff1d(big, sel))]
     src = [[round(float(v), 1) for v in p_[i]] for i in sel[:6]]
     dst = [[round(float(v), 1) for v in q[i]] for i in sel[:6]]
     T = fit.transform
     par = [float(f"{T.params[n]:.10g}") for n in ("a0", "a1", "a2", "b0", "b1", "b2", "c1", "c2")]
     return {"i": pair[0] + 1, "j": pair[1] + 1, "src": src, "dst": dst, "H": par,
-            "p_tie": [round(float(v), 2) for v in p_[sel[6]]],
-            "q_tie": [round(float(v), 2) for v in q[sel[6]]], "sigma_px": 0.7}
+            "pc": round(float(p_[sel[6], 0]), 2), "pr": round(float(p_[sel[6], 1]), 2),
+            "qc": round(float(q[sel[6], 0]), 2), "qr": round(float(q[sel[6], 1]), 2),
+            "sigma_px": 0.7}
 
 
 def _tie_affine(p, inverse=False):
@@ -549,9 +573,10 @@ def _tie_projective(p):
 
 def _tie_residual(p, sign=1.0, inverse=False):
     T = _tie_projective(p)
+    pt, qt = np.array([p["pc"], p["pr"]]), np.array([p["qc"], p["qr"]])
     if inverse:
-        return sign * (T.inverse(np.array([p["q_tie"]]))[0] - np.array(p["p_tie"]))
-    return sign * (T(np.array([p["p_tie"]]))[0] - np.array(p["q_tie"]))
+        return sign * (T.inverse(qt[None])[0] - pt)
+    return sign * (T(pt[None])[0] - qt)
 
 
 tie_affine = Exercise(
@@ -580,7 +605,8 @@ tie_residual = Exercise(
               "2.18) $col' = (a_0 + a_1 col + a_2 row)/(1 + c_1 col + c_2 row)$, "
               "$row' = (b_0 + b_1 col + b_2 row)/(1 + c_1 col + c_2 row)$ with "
               "$(a_0, a_1, a_2, b_0, b_1, b_2, c_1, c_2)$ = {H}. Another tie point was measured "
-              "at {p_tie} in the source and at {q_tie} in the target image. Give its residual "
+              "at $p = ({pc:.2f}, {pr:.2f})$ in the source and at $q = ({qc:.2f}, {qr:.2f})$ in the "
+              "target image. Give its residual "
               "$v = T(p) - q$ (px) as an array of shape (2,), to 0.01 px. (ORB measures to "
               "about σ = {sigma_px} px per coordinate: |v| should be a few tenths of a pixel "
               "to about 2 px.)",
@@ -589,8 +615,6 @@ tie_residual = Exercise(
     mistakes=(
         Mistake("sign", "the residual is the transformed minus the measured point, "
                         "v = T(p) − q", lambda p: _tie_residual(p, sign=-1.0)),
-        Mistake("inverse", "the transformation maps the source into the target: transform p, "
-                           "not q", lambda p: _tie_residual(p, inverse=True)),
     ))
 
 
