@@ -207,7 +207,10 @@ class MosaicZoom(Explorer):
 
     title = "mosaic zoom"
 
-    def __init__(self, mos, half: int = 60):
+    def __init__(self, mos=None, half: int = 60):
+        if mos is None:                      # the chapter's block at half the resolution
+            block = mosaic_block()
+            mos = im.image_mosaic(block["images"], block["transforms"], pixel_size=2.0)
         self.mos = mos
         ext = mos.extent
         cx, cy = (float(np.round(v / 5.0) * 5.0) for v in mos.centres[:2].mean(axis=0))
