@@ -9,8 +9,9 @@
 * ``prd.diff-rect`` (function): differential rectification of a small grid, raising
   ``ValueError`` for a cell behind the camera or outside the image;
 * scenario ``prd.cell-height`` (3 steps): one ortho cell — DTM height, image point, grey value;
-* scenario ``prd.tie-affine`` (2 steps, real aerial images ``photolib.data.mosaic()``): an
-  affine transformation from ORB tie points, the residual of another tie point.
+* scenario ``prd.tie-affine`` (3 steps, real aerial images ``photolib.data.mosaic()``): an
+  affine transformation from ORB tie points, the residual of another tie point, and a ground
+  point found in the other image, accepted within 3√2·σ of ORB's measurement.
 
 Course conventions (docs/conventions.md): ``(kx, ky, N) = Rᵀ(X − X0)``,
 ``x' = x'0 − c·kx/N``, ``R = R_ω·R_φ·R_κ``, c > 0. References come from
@@ -18,7 +19,7 @@ Course conventions (docs/conventions.md): ``(kx, ky, N) = Rᵀ(X − X0)``,
 :mod:`photolib.derive.products`.
 
 >>> [ex.id for ex in EXERCISES][5:]
-['prd.diff-rect', 'prd.cell-height', 'prd.cell-image', 'prd.cell-grey', 'prd.tie-affine', 'prd.tie-residual']
+['prd.diff-rect', 'prd.cell-height', 'prd.cell-image', 'prd.cell-grey', 'prd.tie-affine', 'prd.tie-residual', 'prd.tie-point']
 """
 
 from __future__ import annotations
@@ -546,6 +547,7 @@ def _tie_params(rng):
     big = np.flatnonzero(np.all(np.abs(v) >= 0.1, axis=1))
     sel = rng.choice(len(p_), 6, replace=False)
     sel = np.r_[sel, rng.choice(np.setdiff1d(big, sel))]
+    k3 = int(rng.choice(np.setdiff1d(np.arange(len(p_)), sel)))    # step 3's point
     src = [[round(float(v), 1) for v in p_[i]] for i in sel[:6]]
     dst = [[round(float(v), 1) for v in q[i]] for i in sel[:6]]
     T = fit.transform
@@ -553,6 +555,7 @@ def _tie_params(rng):
     return {"i": pair[0] + 1, "j": pair[1] + 1, "src": src, "dst": dst, "H": par,
             "pc": round(float(p_[sel[6], 0]), 2), "pr": round(float(p_[sel[6], 1]), 2),
             "qc": round(float(q[sel[6], 0]), 2), "qr": round(float(q[sel[6], 1]), 2),
+            "pc3": round(float(p_[k3, 0]), 2), "pr3": round(float(p_[k3, 1]), 2), "k3": k3,
             "sigma_px": 0.7}
 
 
@@ -582,7 +585,7 @@ def _tie_residual(p, sign=1.0, inverse=False):
 tie_affine = Exercise(
     params_name="p_tie_affine", scenario="prd.tie-affine",
     id="prd.tie-affine", points=2, kind="array", answer="affine",
-    title="Step 1 of 2: an affine transformation from real tie points",
+    title="Step 1 of 3: an affine transformation from real tie points",
     statement="ORB measured these tie points in the real aerial images aerial2-{j:03d} "
               "(source, pixels (col, row) of the image reduced 2 × 2) and aerial2-{i:03d} "
               "(target): source {src}, target {dst}. Estimate by least squares the affine "
@@ -599,7 +602,7 @@ tie_affine = Exercise(
 tie_residual = Exercise(
     params_name="p_tie_res", scenario="prd.tie-affine",
     id="prd.tie-residual", points=2, kind="array", answer="v_tie",
-    title="Step 2 of 2: the residual of a tie point under the projective transformation",
+    title="Step 2 of 3: the residual of a tie point under the projective transformation",
     statement="photolib's RANSAC fit on all tie points of the pair aerial2-{j:03d} → "
               "aerial2-{i:03d} (reduced images) is the projective transformation (Luhmann "
               "2.18) $col' = (a_0 + a_1 col + a_2 row)/(1 + c_1 col + c_2 row)$, "
@@ -618,5 +621,42 @@ tie_residual = Exercise(
     ))
 
 
+def _tie_point(p, inverse=False, swap=False):
+    """Where ORB measured the ground point of step 3 in the target image (col, row), px."""
+    if inverse:
+        return _tie_projective(p).inverse(np.array([[p["pc3"], p["pr3"]]]))[0]
+    if swap:
+        return _tie_projective(p)(np.array([[p["pr3"], p["pc3"]]]))[0]
+    _, q, _ = _tie_data(_TIE_PAIRS[p["i"] - 1])
+    return np.array(q[p["k3"]], dtype=float)
+
+
+#: 3σ of the difference of two ORB measurements (σ = 0.7 px per coordinate, measured on a
+#: known warp of these images in chapter 12 and tests/test_real_mosaic.py): √2·3·0.7 ≈ 3 px
+_TIE_ATOL = 3.0
+
+tie_point = Exercise(
+    params_name="p_tie_pt", scenario="prd.tie-affine",
+    id="prd.tie-point", points=2, kind="array", answer="q_tie",
+    title="Step 3 of 3: find a ground point in the other image",
+    statement="In the reduced aerial image aerial2-{j:03d} a ground point is seen at "
+              "$p = ({pc3:.2f}, {pr3:.2f})$ (col, row, px). Where is it in aerial2-{i:03d}? "
+              "Give $(col, row)$ in px as an array of shape (2,): transform it with the "
+              "projective transformation of step 2, or measure it yourself in the images "
+              "(`photolib.data.mosaic()`, reduced by a 2 × 2 block mean). It is compared with "
+              "where ORB measured it and accepted within 3 px: three times the standard "
+              "deviation of the difference of two measurements of σ = {sigma_px} px each "
+              "(3·√2·σ).",
+    parameters=_tie_params, reference=_tie_point, rtol=0.0, atol=_TIE_ATOL,
+    exact=("sigma_px",),
+    mistakes=(
+        Mistake("inverse", "that is the inverse transformation: the projective transformation "
+                           "of step 2 maps the source image into the target",
+                lambda p: _tie_point(p, inverse=True)),
+        Mistake("swapped", "col and row are swapped: the transformation takes (col, row)",
+                lambda p: _tie_point(p, swap=True)),
+    ))
+
+
 EXERCISES = (relief, ortho_to_image, dtm_accuracy, product, occluded, diff_rect,
-             cell_height, cell_image, cell_grey, tie_affine, tie_residual)
+             cell_height, cell_image, cell_grey, tie_affine, tie_residual, tie_point)
