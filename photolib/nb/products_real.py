@@ -182,15 +182,20 @@ def plot_real_mosaic(mos, *, ax=None, seams=True, title="mosaic"):
     return fig
 
 
-def plot_tie_residuals(mos, block, scale: float = 50.0, ax=None):
-    """Residual vectors T_i(p_i) − T_j(p_j) at the tie points, ``scale`` times enlarged."""
+def plot_tie_residuals(mos, block, scale: float = 30.0, per_pair: int = 40, ax=None):
+    """Residual vectors T_i(p_i) − T_j(p_j), ``scale`` times enlarged, ``per_pair`` per pair.
+
+    Every k-th tie point of each pair is drawn (k chosen for about ``per_pair`` arrows), so
+    that the vectors stay readable; the table holds the statistics of all of them.
+    """
     fig = plot_real_mosaic(mos, ax=ax, seams=True,
                            title=f"tie-point residuals (× {scale:g}); orange: seam lines")
     ax = fig.axes[0]
     colours = ("tab:blue", "tab:green", "tab:purple", "tab:cyan", "tab:pink", "tab:olive")
     for k, r in enumerate(block["residuals"]):
-        at = im.plane_from_pixel(r["at"])
-        v = r["v"] * np.array([1.0, -1.0])
+        step = max(1, len(r["v"]) // per_pair)
+        at = im.plane_from_pixel(r["at"][::step])
+        v = r["v"][::step] * np.array([1.0, -1.0])
         ax.quiver(at[:, 0], at[:, 1], v[:, 0], v[:, 1], angles="xy", scale_units="xy",
                   scale=1.0 / scale, width=0.002, color=colours[k % len(colours)],
                   label=f"{r['i'] + 1}–{r['j'] + 1}")
