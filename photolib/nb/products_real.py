@@ -19,7 +19,8 @@ from photolib import image_mosaic as im
 from photolib.nb.live import Explorer, LiveFigure, slider
 from photolib.rectify import rectify_image
 
-__all__ = ["AERIAL", "DOWNSAMPLE", "MosaicZoom", "aerial_images", "measure_tie_points",
+__all__ = ["AERIAL", "DOWNSAMPLE", "MosaicZoom", "aerial_images", "match_features",
+           "measure_tie_points", "orb_features",
            "mosaic_block", "opencv_homography", "plot_real_mosaic", "plot_tie_residuals",
            "reduce_image", "residual_rows", "synthetic_precision"]
 
@@ -66,23 +67,33 @@ def aerial_images(indices=AERIAL, factor: int = DOWNSAMPLE) -> tuple:
     return tuple(out)
 
 
+def orb_features(image, n_features: int = N_FEATURES):
+    """ORB keypoints and descriptors of a grey image (OpenCV, the measuring tool)."""
+    cv2 = _cv2()
+    k, d = cv2.ORB_create(n_features).detectAndCompute(np.ascontiguousarray(image), None)
+    if d is None:
+        raise ValueError("no ORB features found in the image")
+    return k, d
+
+
+def match_features(f1, f2, ratio: float = RATIO):
+    """Tie points ``(p1, p2)`` of two feature sets: Hamming matcher with Lowe's ratio test."""
+    cv2 = _cv2()
+    (k1, d1), (k2, d2) = f1, f2
+    matches = cv2.BFMatcher(cv2.NORM_HAMMING).knnMatch(d1, d2, k=2)
+    good = [m[0] for m in matches if len(m) == 2 and m[0].distance < ratio * m[1].distance]
+    p1 = np.array([k1[m.queryIdx].pt for m in good], dtype=float).reshape(-1, 2)
+    p2 = np.array([k2[m.trainIdx].pt for m in good], dtype=float).reshape(-1, 2)
+    return p1, p2
+
+
 def measure_tie_points(img1, img2, n_features: int = N_FEATURES, ratio: float = RATIO):
     """ORB tie points between two grey images: ``(p1, p2)``, (N, 2) each, (col, row) px.
 
     OpenCV's keypoint positions have (0, 0) at the centre of the top-left pixel, as the
     course's pixel coordinates. Deterministic for given images.
     """
-    cv2 = _cv2()
-    orb = cv2.ORB_create(n_features)
-    k1, d1 = orb.detectAndCompute(np.ascontiguousarray(img1), None)
-    k2, d2 = orb.detectAndCompute(np.ascontiguousarray(img2), None)
-    if d1 is None or d2 is None:
-        raise ValueError("no ORB features found in one of the images")
-    matches = cv2.BFMatcher(cv2.NORM_HAMMING).knnMatch(d1, d2, k=2)
-    good = [m[0] for m in matches if len(m) == 2 and m[0].distance < ratio * m[1].distance]
-    p1 = np.array([k1[m.queryIdx].pt for m in good], dtype=float).reshape(-1, 2)
-    p2 = np.array([k2[m.trainIdx].pt for m in good], dtype=float).reshape(-1, 2)
-    return p1, p2
+    return match_features(orb_features(img1, n_features), orb_features(img2, n_features), ratio)
 
 
 def synthetic_precision(image, seed: int = 0, n_features: int = N_FEATURES):
@@ -121,16 +132,17 @@ def mosaic_block(indices=AERIAL, model: str = "projective", factor: int = DOWNSA
     ``residuals`` (:func:`photolib.image_mosaic.tie_point_residuals`).
     """
     images = aerial_images(indices, factor)
+    feats = [orb_features(img) for img in images]          # detected once per image
     fits, ties = [], []
     for k in range(1, len(images)):
-        p_prev, p_k = measure_tie_points(images[k - 1], images[k])
+        p_prev, p_k = match_features(feats[k - 1], feats[k])
         fit = im.fit_pair(p_k, p_prev, model=model, threshold=THRESHOLD, rng=k)
         fits.append(fit)
         ties.append((k - 1, k, p_prev[fit.inliers], p_k[fit.inliers]))
     transforms = im.chain_transforms([f.transform for f in fits])
     for i in range(len(images)):
         for j in range(i + 2, len(images)):
-            pi, pj = measure_tie_points(images[i], images[j])
+            pi, pj = match_features(feats[i], feats[j])
             if len(pi) < 20:
                 continue
             fit = im.fit_pair(pj, pi, model=model, threshold=THRESHOLD, rng=10 * i + j)
