@@ -177,3 +177,28 @@ def test_static_figures_have_their_artists():
     shape, origin, d = (20, 30), (10.0, 50.0), 1.0
     fig = npr.plot_ortho_map(np.zeros(shape), npr.dtm(), shape, origin, d, interval=1.0)
     assert fig.axes[0].collections          # the contour lines
+
+
+# -- the real mosaic's zoom (photolib.nb.products_real) -------------------------------------------
+
+def _small_mosaic():
+    from photolib import image_mosaic as im
+    rng = np.random.default_rng(0)
+    img = rng.uniform(0, 255, (60, 90))
+    shift = pl.AffineTransform(50.0, 1.0, 0.0, 10.0, 0.0, 1.0)
+    return im.image_mosaic([img[:, :60], img[10:, 50:]], im.chain_transforms([shift]))
+
+
+def test_mosaic_zoom_shows_the_window_and_its_source_images():
+    from photolib.nb.products_real import MosaicZoom
+    mos = _small_mosaic()
+    e = MosaicZoom(mos, half=15)
+    assert_explorer_widget(e, "mosaic zoom")
+    e.set(X=20.0, Y=-20.0, half=15.0)                   # inside image 1 only
+    assert "from image(s): 1<" in e.html.value + "<"
+    e.set(X=60.0, Y=-30.0, half=15.0)                   # across the seam
+    assert "from image(s): 1, 2" in e.html.value
+    rs, cs = e.window(60.0, -30.0, 15.0)
+    shown = e._img.get_array()
+    assert np.allclose(shown, mos.mosaic[rs, cs])
+    assert any(moves(e, "X", 30.0))

@@ -40,6 +40,7 @@ class TestChapter12(ChapterChecks, BatchGradedChecks):
     mistake_students = MANY
     mistake_limit = 4
     variant_students = len(STUDENTS)
+    scalar_cases = False            # prd.diff-rect takes an image and a height grid
 
 
 def test_a_slightly_wrong_function_is_wrong_without_a_hint():
