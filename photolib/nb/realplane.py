@@ -173,17 +173,41 @@ def plot_measured(image, points, window=None):
 
 
 def plot_rectified(images, extent, points):
-    """Static figure: rectified images (title, array) side by side in façade units, with the
+    """Static figure: rectified images (title, array) one above the other in façade units, with the
     control points' façade positions."""
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, len(images), figsize=(3.3 * len(images), 2.6), sharey=True)
+    fig, axes = plt.subplots(len(images), 1, figsize=(6.4, 1.9 * len(images)), sharex=True)
     P = np.asarray(points, dtype=float)
     for ax, (name, img) in zip(np.atleast_1d(axes), images):
         ax.imshow(np.clip(img, 0, 255).astype(np.uint8), extent=extent)
         ax.plot(*P.T, "+", color="#d62728", ms=7)
-        ax.set(title=name, xlabel="X [window spacings]")
+        ax.set(title=name, ylabel="Y [spacings]")
         ax.grid(False)
-    np.atleast_1d(axes)[0].set_ylabel("Y [spacings]")
+    np.atleast_1d(axes)[-1].set_xlabel("X [window spacings]")
     fig.tight_layout()
     return finished(fig)
+
+
+# -- a scanned fiducial mark ------------------------------------------------------------------
+
+def render_fiducial(centre, shape=(21, 21), radius_px: float = 2.5, noise: float = 4.0,
+                    seed: int = 0, oversample: int = 8) -> np.ndarray:
+    """A scanned fiducial mark (Rahmenmarke): a bright dot of radius ``radius_px`` on dark film.
+
+    The dot is integrated over each pixel (``oversample``² sub-samples), so its grey-value
+    centroid is at ``centre`` = (col, row) px up to the sampling; then Gaussian grey-value
+    noise σ = ``noise`` (seeded) is added. Grey values 20 (film) to 220 (dot), float.
+    """
+    rows, cols = (int(v) for v in shape)
+    c0, r0 = (float(v) for v in centre)
+    if not (0 <= c0 <= cols - 1 and 0 <= r0 <= rows - 1):
+        raise ValueError(f"centre {centre!r} lies outside the patch of shape {shape!r}")
+    k = int(oversample)
+    fine_r = (np.arange(rows * k) + 0.5) / k - 0.5        # sub-sample centres, px
+    fine_c = (np.arange(cols * k) + 0.5) / k - 0.5
+    inside = (fine_c[None, :] - c0) ** 2 + (fine_r[:, None] - r0) ** 2 <= radius_px ** 2
+    inside = inside.reshape(rows, k, cols, k)
+    cover = inside.mean(axis=(1, 3))
+    rng = np.random.default_rng(seed)
+    return 20.0 + 200.0 * cover + rng.normal(0.0, noise, (rows, cols))
