@@ -603,7 +603,9 @@ def _homography_cases(rng, p):
     H = np.array(p["H"])
     square = rng.uniform(0.5, 1.5, (4, 2)) + [[0, 0], [8, 0], [8, 6], [0, 6]]
     clean = (np.round(square, 3).tolist(), np.round(_map(H, square), 3).tolist())
-    many = rng.uniform(0.0, 10.0, (8, 2))
+    # eight points spread over the plane (a jittered 3 × 3 grid without its centre)
+    many = np.array([[x, y] for x in (0.0, 5.0, 10.0) for y in (0.0, 5.0, 10.0)
+                     if (x, y) != (5.0, 5.0)]) + rng.uniform(-1.0, 1.0, (8, 2))
     noisy = (np.round(many, 3).tolist(),
              np.round(_map(H, many) + rng.normal(0.0, 0.5, many.shape), 3).tolist())
     # three points exactly collinear (whole numbers: exact in float32 as well)
