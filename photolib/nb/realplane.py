@@ -24,7 +24,7 @@ import numpy as np
 
 from photolib.nb.live import Explorer, LiveFigure, finished, slider
 
-__all__ = ["CORNERS", "WindowZoom", "facade_points", "measure", "measurements",
+__all__ = ["CORNERS", "WindowZoom", "church_photo", "facade_points", "render_fiducial", "measure", "measurements",
            "plot_measured", "plot_rectified", "zoom_report"]
 
 #: the measured corners, in the order of the JSON file: window k top-left is 2k, bottom-left 2k + 1
@@ -84,6 +84,14 @@ def facade_points(height: float) -> np.ndarray:
     return np.array([[k, y] for k in range(5) for y in (h, 0.0)], dtype=float)
 
 
+@functools.cache
+def church_photo() -> np.ndarray:
+    """The photograph, ``photolib.data.church().images[0]`` (851 × 1280 × 3 uint8), read once."""
+    from photolib import data
+
+    return data.church().images[0]
+
+
 # -- the zoom / pick widget -----------------------------------------------------------------------
 
 def zoom_report(image, corner: int = 0, half: int = 12) -> dict:
@@ -117,8 +125,8 @@ class WindowZoom(Explorer):
 
     title = "measured window corners: zoom and pick"
 
-    def __init__(self, image, corner: int = 4, half: int = 12):
-        self.image = np.asarray(image)
+    def __init__(self, image=None, corner: int = 4, half: int = 12):
+        self.image = church_photo() if image is None else np.asarray(image)
         self.controls = {
             "corner": widgets.Dropdown(options=[(name, i) for i, name in enumerate(CORNERS)],
                                        value=int(corner), description="corner"),
@@ -126,13 +134,13 @@ class WindowZoom(Explorer):
         }
         self.live = LiveFigure((3.4, 3.4))
         ax = self.live.figure.add_subplot()
-        self.live.figure.subplots_adjust(0.16, 0.12, 0.97, 0.92)
+        self.live.figure.subplots_adjust(0.2, 0.13, 0.96, 0.88)
         rep = zoom_report(self.image, corner, half)
         self._ax = ax
         self._crop = ax.imshow(rep["crop"], extent=rep["extent"], interpolation="nearest")
         (self._approx,) = ax.plot([], [], "x", color="#ff7f0e", ms=10, mew=2)
         (self._refined,) = ax.plot([], [], "+", color="#d62728", ms=14, mew=2)
-        ax.set(xlabel="col [px]", ylabel="row [px]", title="× picked · + cornerSubPix")
+        ax.set(xlabel="col [px]", ylabel="row [px]", title="× picked, + refined")
         ax.grid(False)
         self.report = None
         self._finish()
