@@ -151,3 +151,54 @@ def test_static_figures_draw():
     assert "σ0" in figs[1].axes[0].get_title()
     for f in figs:
         plt.close(f)
+
+
+# -- the real façade: measured corners, zoom widget, rendered fiducial mark --------------------
+
+def test_window_zoom_shows_the_picked_and_refined_corner():
+    from photolib.nb import realplane
+    e = realplane.WindowZoom(corner=4, half=12)
+    assert_explorer_widget(e, "measured window corners: zoom and pick")
+    approx, refined = realplane.measurements()
+    rep = e.report
+    assert rep["crop"].shape[:2] == (25, 25)
+    # the crop is centred on the picked pixel, whose centre is at integer coordinates
+    c0, c1, r1, r0 = rep["extent"]
+    assert ((c0 + c1) / 2, (r0 + r1) / 2) == tuple(approx[4])
+    assert np.array_equal(rep["refined"], refined[4])
+    assert f"{refined[4, 0]:.2f}" in e.html.value
+    for corner in (0, 9):
+        e.set(corner=corner, half=20.0)
+        assert e.report["crop"].shape[:2] == (41, 41)
+        assert np.array_equal(e.report["approx"], approx[corner])
+
+
+def test_zoom_report_names_a_bad_corner():
+    from photolib.nb import realplane
+    with pytest.raises(ValueError, match="corner"):
+        realplane.zoom_report(realplane.church_photo(), corner=10)
+    with pytest.raises(ValueError, match="half"):
+        realplane.zoom_report(realplane.church_photo(), corner=0, half=1)
+
+
+def test_facade_points_and_a_bad_height():
+    from photolib.nb import realplane
+    pts = realplane.facade_points(0.67)
+    assert pts.shape == (10, 2) and set(pts[:, 1]) == {0.0, 0.67}
+    with pytest.raises(ValueError, match="height"):
+        realplane.facade_points(-1.0)
+
+
+@pytest.mark.parametrize("centre", [(10.0, 10.0), (10.37, 9.81), (8.5, 11.25)])
+def test_rendered_fiducial_mark_has_its_centroid_at_the_centre(centre):
+    # independent route: scipy's centre of mass (row, col) of the noise-free dot above the film
+    from scipy import ndimage
+
+    from photolib.nb import realplane
+    patch = realplane.render_fiducial(centre, noise=0.0)
+    row, col = ndimage.center_of_mass(patch - 20.0)
+    # a disc sampled by 8 × 8 sub-pixels: its centroid is off by less than a sub-pixel's
+    # sixteenth of a pixel
+    assert abs(col - centre[0]) < 1 / 16 and abs(row - centre[1]) < 1 / 16
+    with pytest.raises(ValueError, match="outside"):
+        realplane.render_fiducial((30.0, 5.0))

@@ -35,6 +35,7 @@ class TestChapter07(ChapterChecks):
     kinds = {"number", "array", "expression", "function"}
     students = STUDENTS
     variant_fallback = tuple(f"s{i}" for i in range(50))
+    scalar_cases = False     # homography-function and map-points-function take point lists
 
 
 def test_the_quadrant_mistake_applies_to_some_student():
@@ -44,8 +45,7 @@ def test_the_quadrant_mistake_applies_to_some_student():
     assert applied
 
 
-@pytest.mark.parametrize("ex", [ex for ex in EXERCISES if ex.kind == "function"],
-                         ids=lambda ex: ex.id)
+@pytest.mark.parametrize("ex", [_by_id("plane.bilinear-function")], ids=lambda ex: ex.id)
 def test_functions_are_judged_on_hidden_inputs(ex):
     # a function right on the public inputs only is not accepted (the hidden inputs differ:
     # ChapterChecks.test_hidden_inputs_differ_from_the_public_ones)
@@ -194,3 +194,88 @@ def test_cross_ratio_rounded_to_a_millimetre_is_accepted(sid):
     affine = (p["d"] - p["a"]) / (p["b"] - p["a"]) * p["sB"]
     assert _judge(ex, sid, affine).mistake == "affine-ratio"
     assert _judge(ex, sid, float(s_D) + 0.1).status == "wrong"
+
+
+# -- the new references, by independent routes ----------------------------------------------
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_fiducial_centroid_reference_by_scipy(sid):
+    from scipy import ndimage
+    p = parameters_for(_by_id("plane.fiducial-centroid"), sid)
+    w = np.maximum(np.array(p["patch"], float) - p["background"], 0.0)
+    row, col = ndimage.center_of_mass(w)
+    np.testing.assert_allclose(ch07._mark_reference(p), np.add(p["origin"], [col, row]),
+                               atol=1e-9)
+    # the step 2 parameters carry step 1's correct result, rounded as printed
+    p2 = parameters_for(_by_id("plane.fiducial-affine"), sid)
+    np.testing.assert_allclose(p2["pix"][0], ch07._mark_reference(p), atol=0.005 + 1e-9)
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_fiducial_sigma0_reference_by_normal_equations(sid):
+    p = parameters_for(_by_id("plane.fiducial-sigma0"), sid)
+    pix, cal = np.array(p["pix"]) * [1.0, -1.0], np.array(p["cal"])
+    A = np.column_stack([np.ones(4), pix])
+    coef = np.linalg.lstsq(A, cal, rcond=None)[0]
+    v = A @ coef - cal
+    assert ch07._sigma0_um(p) == pytest.approx(1000 * np.sqrt(np.sum(v ** 2) / (8 - 6)),
+                                                rel=1e-9)
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_homography_function_reference_by_eigenvector_and_opencv(sid):
+    import cv2
+    ex = _by_id("plane.homography-function")
+    p = parameters_for(ex, sid)
+    clean, noisy, degenerate = ex.cases(rng_for(sid, ex.id, "public"), p)
+    ref = ex.reference(p)
+    # four pairs: the exact solution, as OpenCV's getPerspectiveTransform
+    H4 = cv2.getPerspectiveTransform(np.float32(clean[0]), np.float32(clean[1]))
+    np.testing.assert_allclose(ref(*clean), H4, rtol=1e-4, atol=1e-6)
+    # eight noisy pairs: the normalised linear solution as the eigenvector of AᵀA
+    src, dst = np.array(noisy[0]), np.array(noisy[1])
+    Ts, Td = ch07._hartley(src), ch07._hartley(dst)
+    u = src @ Ts[:2, :2].T + Ts[:2, 2]
+    U = dst @ Td[:2, :2].T + Td[:2, 2]
+    rows = []
+    for (x, y), (X, Y) in zip(u, U):
+        rows += [[x, y, 1, 0, 0, 0, -X * x, -X * y, -X], [0, 0, 0, x, y, 1, -Y * x, -Y * y, -Y]]
+    A = np.array(rows)
+    h = np.linalg.eigh(A.T @ A)[1][:, 0]
+    H = np.linalg.inv(Td) @ h.reshape(3, 3) @ Ts
+    np.testing.assert_allclose(ref(*noisy), H / H[2, 2], rtol=1e-7, atol=1e-9)
+    with pytest.raises(ValueError, match="collinear"):
+        ref(*degenerate)
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_map_points_reference_by_opencv(sid):
+    import cv2
+    ex = _by_id("plane.map-points-function")
+    p = parameters_for(ex, sid)
+    cases = ex.cases(rng_for(sid, ex.id, "public"), p)
+    for H, pts in cases[:2]:
+        cv = cv2.perspectiveTransform(np.array(pts, float)[None], np.array(H, float))[0]
+        np.testing.assert_allclose(ch07._map_checked(H, pts), cv, rtol=1e-12, atol=1e-9)
+    with pytest.raises(ValueError, match="singular"):
+        ch07._map_checked(*cases[2])
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_church_scenario_references_by_null_space_and_line_coordinates(sid):
+    p = parameters_for(_by_id("plane.church-homography"), sid)
+    rows = []
+    for (x, y), (X, Y) in zip(p["img"], p["obj"]):
+        rows += [[x, y, 1, 0, 0, 0, -X * x, -X * y, -X], [0, 0, 0, x, y, 1, -Y * x, -Y * y, -Y]]
+    h = np.linalg.svd(np.array(rows))[2][-1].reshape(3, 3)
+    np.testing.assert_allclose(ch07._church_H(p), h / h[2, 2], rtol=1e-7,
+                               atol=1e-9 * np.abs(h / h[2, 2]).max())
+    # step 2 carries step 1's correct H
+    p2 = parameters_for(_by_id("plane.church-point"), sid)
+    np.testing.assert_allclose(p2["H"], ch07._church_H(p2), rtol=1e-12, atol=1e-15)
+    # step 3: λ from the positions along the line through the outer points
+    P = np.array(p["line_pts"])
+    axis = (P[-1] - P[0]) / np.linalg.norm(P[-1] - P[0])
+    a, b, c, d = (P - P.mean(axis=0)) @ axis
+    lam = (b - a) * (d - c) / ((c - b) * (d - a))
+    assert ch07._church_lambda(p) == pytest.approx(lam, abs=ch07._church_lambda_atol(p)[1])

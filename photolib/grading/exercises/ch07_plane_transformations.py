@@ -290,6 +290,8 @@ _PIXEL_UM = (21.0, 20.0, 14.0, 25.0)
 
 
 def _fiducial_params(rng):
+    """The scan, its four marks and a point; mark 1's position is the correct result of step 1
+    (the centroid of its rendered patch), rounded to 0.01 px."""
     k = int(rng.integers(len(_SCANS)))
     (W, H), ps = _SCANS[k], _PIXEL_UM[k] / 1000.0
     cal = np.array([[-106.0, -106.0], [106.0, -106.0], [106.0, 106.0], [-106.0, 106.0]])
@@ -307,7 +309,13 @@ def _fiducial_params(rng):
 
     pix = np.round(to_pixel(cal) + rng.normal(0.0, 0.3, cal.shape), 2)
     P = np.round(to_pixel(rng.uniform(-90.0, 90.0, (1, 2)))[0], 2)
-    return {"W": W, "H": H, "pixel_um": _PIXEL_UM[k], "cal": cal.tolist(), "pix": pix.tolist(),
+    # step 1: mark 1 scanned as a patch around its position; its centroid replaces pix[0]
+    origin = np.floor(pix[0]).astype(int) - 10
+    patch = _render_mark(pix[0] - origin, rng)
+    pix[0] = np.round(origin + _centroid(patch, _MARK_BACKGROUND), 2)
+    return {"patch": patch.tolist(), "origin": origin.tolist(),
+            "origin_text": f"({origin[0]}, {origin[1]})", "background": _MARK_BACKGROUND,
+            "W": W, "H": H, "pixel_um": _PIXEL_UM[k], "cal": cal.tolist(), "pix": pix.tolist(),
             "P": P.tolist(), "cal_text": _fmt_points(cal, 3), "pix_text": _fmt_points(pix, 2),
             "P_text": _fmt_points([P], 2)}
 
@@ -335,9 +343,9 @@ def _fiducial_pixel_grid(p):
 
 
 fiducial_affine = Exercise(
-    params_name="p_affine",
+    params_name="p_affine", scenario="plane.fiducial-centroid",
     id="plane.fiducial-affine", points=3, kind="array", answer="xy_image",
-    title="Image coordinates from fiducial marks (Bildkoordinaten aus Rahmenmarken)",
+    title="Step 2 of 3: Image coordinates from fiducial marks (Bildkoordinaten aus Rahmenmarken)",
     statement="An analogue aerial photograph was scanned to {W} × {H} pixels of {pixel_um} µm. "
               "Its four corner fiducial marks (Rahmenmarken) have the calibrated image "
               "coordinates (x', y') [mm] {cal_text} and were measured in the scan at "
@@ -345,8 +353,11 @@ fiducial_affine = Exercise(
               "may scale, shear and turn the image. Estimate the affine transformation "
               "(col, row) → (x', y') by least squares from the four marks (interior "
               "orientation) and give the image coordinates of the point measured at "
-              "(col, row) = {P_text} as the NumPy array [x', y'] in mm.",
+              "(col, row) = {P_text} as the NumPy array [x', y'] in mm (to 0.001 mm). "
+              "(Mark 1's position is the correct result of step 1.)",
     parameters=_fiducial_params, reference=_fiducial_reference, tolerance=PRINTED, rtol=0.0, atol=1e-4,
+    # the certificate's values define the image coordinate system: exact as printed
+    exact=("cal",),
     mistakes=(
         Mistake("helmert", "a Helmert (similarity) transformation cannot absorb the scanner's "
                            "different scales and shear; the task asks for the affine "
@@ -450,5 +461,427 @@ bilinear_function = Exercise(
     ))
 
 
+# -- 6b. fiducial mark: centroid (step 1) and σ0 of the comparator transformation (step 3) ---
+#: threshold t of the centroid weights w = max(g − t, 0), grey values
+_MARK_BACKGROUND = 60.0
+
+
+def _render_mark(centre, rng, shape=(21, 21), radius=2.5, k=8):
+    """A scanned fiducial mark: a bright dot (radius px) integrated over each pixel
+    (k² sub-samples), film 20, dot 220, grey-value noise σ = 4, rounded to integers."""
+    rows, cols = shape
+    fr = (np.arange(rows * k) + 0.5) / k - 0.5
+    fc = (np.arange(cols * k) + 0.5) / k - 0.5
+    inside = (fc[None, :] - centre[0]) ** 2 + (fr[:, None] - centre[1]) ** 2 <= radius ** 2
+    cover = inside.reshape(rows, k, cols, k).mean(axis=(1, 3))
+    return np.round(20.0 + 200.0 * cover + rng.normal(0.0, 4.0, shape)).astype(int)
+
+
+def _centroid(patch, t, swap=False):
+    g = np.asarray(patch, dtype=float)
+    w = np.maximum(g - t, 0.0)
+    rows, cols = np.indices(g.shape)
+    c = np.array([np.sum(cols * w), np.sum(rows * w)]) / w.sum()
+    return c[::-1] if swap else c
+
+
+def _mark_reference(p):
+    return np.asarray(p["origin"], dtype=float) + _centroid(p["patch"], p["background"])
+
+
+fiducial_centroid = Exercise(
+    params_name="p_mark", scenario="plane.fiducial-centroid",
+    id="plane.fiducial-centroid", points=2, kind="array", answer="mark1",
+    title="Step 1 of 3: Measuring a fiducial mark by its centroid (Rahmenmarke, Schwerpunkt)",
+    statement="Fiducial mark 1 of a scanned aerial photograph is a bright dot on dark film. "
+              "The scan around it is the 21 × 21 patch of grey values p_mark.patch (a list "
+              "of rows); its top-left pixel is the scan pixel (col, row) = {origin_text}. "
+              "Measure the mark semi-automatically by the grey-value weighted centroid, "
+              "weights $w = \\max(g - t, 0)$ with the threshold $t = {background}$, "
+              "$c = \\sum c_i w_i / \\sum w_i$ (rows alike), and give its position in the "
+              "scan as the NumPy array [col, row] in pixels (to 0.01 px).",
+    parameters=_fiducial_params, reference=_mark_reference, rtol=1e-6, atol=0.004,
+    exact=("background",),
+    mistakes=(
+        Mistake("row-col", "these are (row, col): the course's pixel coordinates are "
+                           "(col, row), column first",
+                lambda p: np.asarray(p["origin"], float)
+                + _centroid(p["patch"], p["background"], swap=True)),
+        Mistake("patch-origin", "this is the position in the patch: add the scan position "
+                                "{origin_text} of the patch's top-left pixel",
+                lambda p: _centroid(p["patch"], p["background"])),
+        Mistake("no-threshold", "without the threshold every pixel of the film weighs in "
+                                "and pulls the centroid towards the patch centre: use "
+                                "w = max(g − t, 0)",
+                lambda p: np.asarray(p["origin"], float) + _centroid(p["patch"], 0.0)),
+    ))
+
+
+def _fiducial_fit(p, cls=None):
+    cls = cls or _transforms().AffineTransform
+    pix, cal = np.array(p["pix"]), np.array(p["cal"])
+    return cls.from_estimate(pix * [1.0, -1.0], cal)
+
+
+def _sigma0_um(p, divisor=None, cls=None):
+    t = _fiducial_fit(p, cls)
+    v = t.residuals
+    r = t.redundancy if divisor is None else divisor
+    return 1000.0 * math.sqrt(float(np.sum(v ** 2)) / r)
+
+
+fiducial_sigma0 = Exercise(
+    params_name="p_sigma0", scenario="plane.fiducial-centroid",
+    id="plane.fiducial-sigma0", points=2, kind="number", answer="sigma0_um",
+    title="Step 3 of 3: The precision of the interior orientation (σ0 der Rahmenmarken)",
+    statement="The same scan: the four fiducial marks with calibrated image coordinates "
+              "(x', y') [mm] {cal_text} measured at (col, row) [pixel] {pix_text} "
+              "(p_sigma0.cal, p_sigma0.pix; mark 1 as step 1 measured it). After the affine "
+              "transformation (col, −row) → (x', y') by least squares (step 2), give the "
+              "standard deviation of unit weight $\\sigma_0 = \\sqrt{{v^Tv / r}}$ of the "
+              "residuals in µm (to 0.01 µm), with r the redundancy.",
+    parameters=_fiducial_params, reference=_sigma0_um, tolerance=PRINTED, atol=0.005,
+    exact=("cal",),
+    mistakes=(
+        Mistake("divide-n", "this divides vᵀv by the number of observations n = 8; σ0 "
+                            "divides by the redundancy r = n − u = 8 − 6 = 2",
+                lambda p: _sigma0_um(p, divisor=8)),
+        Mistake("mm", "this is σ0 in mm; the task asks for µm (× 1000)",
+                lambda p: _sigma0_um(p) / 1000.0),
+        Mistake("helmert", "this is σ0 of the Helmert (similarity) transformation (r = 4); "
+                           "the task asks for the affine one",
+                lambda p: _sigma0_um(p, cls=_transforms().HelmertTransform)),
+    ))
+
+
+# -- 8. homography from points as a function (function) ---------------------------------------
+def _hartley(p):
+    c = p.mean(axis=0)
+    s = math.sqrt(2.0) / float(np.mean(np.linalg.norm(p - c, axis=1)))
+    return np.array([[s, 0.0, -s * c[0]], [0.0, s, -s * c[1]], [0.0, 0.0, 1.0]])
+
+
+def _dlt(src, dst, normalise=True, swap=False):
+    """The (normalised) linear solution of the homography src → dst, h33 = 1."""
+    src, dst = np.asarray(src, dtype=float), np.asarray(dst, dtype=float)
+    if swap:
+        src, dst = src[:, ::-1], dst[:, ::-1]
+    transforms = _transforms()
+    transforms.ProjectiveTransform.from_estimate(src, dst)   # ValueError for degenerate points
+    Ts, Td = (_hartley(src), _hartley(dst)) if normalise else (np.eye(3), np.eye(3))
+    u = src @ Ts[:2, :2].T + Ts[:2, 2]
+    U = dst @ Td[:2, :2].T + Td[:2, 2]
+    A = np.zeros((2 * len(u), 9))
+    for i, ((x, y), (X, Y)) in enumerate(zip(u, U)):
+        A[2 * i] = [x, y, 1, 0, 0, 0, -X * x, -X * y, -X]
+        A[2 * i + 1] = [0, 0, 0, x, y, 1, -Y * x, -Y * y, -Y]
+    H = np.linalg.inv(Td) @ np.linalg.svd(A)[2][-1].reshape(3, 3) @ Ts
+    H = H / H[2, 2]
+    if swap:
+        P = np.array([[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+        H = P @ H @ P           # the same map written for (y, x): what swapping x, y gives
+        H = H.T                 # read back in the wrong order (the swap does not cancel)
+    return H
+
+
+def _homography_params(rng):
+    H = np.array([[round(float(rng.uniform(40.0, 60.0)), 2), round(float(rng.uniform(-8, 8)), 2),
+                   round(float(rng.uniform(-20, 20)), 2)],
+                  [round(float(rng.uniform(-8, 8)), 2), round(float(rng.uniform(40.0, 60.0)), 2),
+                   round(float(rng.uniform(-20, 20)), 2)],
+                  [round(float(rng.uniform(-0.05, 0.05)), 4),
+                   round(float(rng.uniform(-0.05, 0.05)), 4), 1.0]])
+    return {"H": H.tolist()}
+
+
+def _map(H, pts):
+    P = np.column_stack([pts, np.ones(len(pts))]) @ np.asarray(H, dtype=float).T
+    return P[:, :2] / P[:, 2:]
+
+
+def _homography_cases(rng, p):
+    H = np.array(p["H"])
+    square = rng.uniform(0.5, 1.5, (4, 2)) + [[0, 0], [8, 0], [8, 6], [0, 6]]
+    clean = (np.round(square, 3).tolist(), np.round(_map(H, square), 3).tolist())
+    # eight points spread over the plane (a jittered 3 × 3 grid without its centre)
+    many = np.array([[x, y] for x in (0.0, 5.0, 10.0) for y in (0.0, 5.0, 10.0)
+                     if (x, y) != (5.0, 5.0)]) + rng.uniform(-1.0, 1.0, (8, 2))
+    noisy = (np.round(many, 3).tolist(),
+             np.round(_map(H, many) + rng.normal(0.0, 0.5, many.shape), 3).tolist())
+    # three points exactly collinear (whole numbers: exact in float32 as well)
+    a = rng.integers(0, 5, 2).astype(float)
+    b = a + 2 * rng.integers(1, 3, 2)
+    line = [a, b, (a + b) / 2, np.array([float(rng.integers(0, 4)), float(rng.integers(7, 10))])]
+    degenerate = (np.array(line).tolist(), np.round(_map(H, np.array(line))
+                                                        + [[0.0, 0.0], [0.0, 0.0], [3.0, -2.0],
+                                                           [0.0, 0.0]], 3).tolist())
+    return [clean, noisy, degenerate]
+
+
+def _homography_reference(p):
+    def homography(src, dst):
+        return _dlt(src, dst)
+    return homography
+
+
+homography_function = Exercise(
+    params_name="p_hfun",
+    id="plane.homography-function", points=4, kind="function", answer="homography",
+    few_variants="a function of its arguments alone: one correct function for every student "
+                 "(the hidden test points differ)",
+    title="The projective transformation from points, as a function (Projektivtransformation)",
+    statement="Write homography(src, dst): src and dst are lists of n ≥ 4 corresponding "
+              "points [[x, y], …] and [[X, Y], …]. Return the 3 × 3 NumPy array H of the "
+              "projective transformation src → dst, $(X, Y, 1)^T \\propto H\\,(x, y, 1)^T$, "
+              "scaled to $h_{{33}} = 1$, from the **normalised linear solution**: normalise "
+              "both point sets (centroid to 0, mean distance √2), take the right singular "
+              "vector of the smallest singular value of the 2n × 9 DLT matrix, undo the "
+              "normalisation. If three of four points are collinear, raise ValueError. "
+              "Your numbers: the test points are mapped by p_hfun.H = {H} with noise added; the "
+              "function is tested on points you do not see.",
+    parameters=_homography_params, reference=_homography_reference,
+    cases=_homography_cases, rtol=1e-4, atol=1e-6,  # float32 work on noisy points: 1e-5
+    mistakes=(
+        Mistake("transposed", "H is transposed: the row i of H gives the i-th homogeneous "
+                              "coordinate, (X, Y, 1)ᵀ ∝ H·(x, y, 1)ᵀ",
+                lambda p: lambda s, d: _dlt(s, d).T),
+        Mistake("no-normalisation", "the linear solution without normalising the points "
+                                    "first: with noise it is a worse, different estimate; "
+                                    "centre each set and scale it to mean distance √2",
+                lambda p: lambda s, d: _dlt(s, d, normalise=False)),
+        Mistake("h33", "H is not scaled to h33 = 1 (a singular vector has norm 1): "
+                       "divide by H[2, 2]",
+                lambda p: lambda s, d: _dlt(s, d) / np.linalg.norm(_dlt(s, d))),
+        Mistake("swapped", "this is the transformation dst → src: estimate src → dst",
+                lambda p: lambda s, d: _dlt(d, s)),
+    ))
+
+
+# -- 9. mapping a grid by a homography as a function (function) -----------------------------
+def _map_checked(H, points, transpose=False, divide=True, swap=False):
+    H = np.asarray(H, dtype=float)
+    if H.shape != (3, 3):
+        raise ValueError(f"H must be 3 × 3, got shape {H.shape}")
+    if abs(np.linalg.det(H)) <= 1e-6 * np.linalg.norm(H) ** 3:
+        raise ValueError(f"H is singular (det H = {np.linalg.det(H):.3g}): it maps the plane "
+                         "onto a line or a point, no transformation of the plane")
+    pts = np.asarray(points, dtype=float)
+    if swap:
+        pts = pts[:, ::-1]
+    P = np.column_stack([pts, np.ones(len(pts))]) @ (H if transpose else H.T)
+    out = P[:, :2] / P[:, 2:] if divide else P[:, :2]
+    return out[:, ::-1] if swap else out
+
+
+def _grid_cases(rng, p):
+    H = np.array(p["H"])
+    grid = [[float(x), float(y)] for x in (0.0, 2.5, 5.0) for y in (0.0, 2.0, 4.0)]
+    pts = np.round(rng.uniform(0.0, 10.0, (5, 2)), 3).tolist()
+    other = np.array(_homography_params(rng)["H"])     # another homography of the same kind
+    singular = other.copy()
+    singular[2] = 0.5 * other[0] + 0.02 * other[1]     # third row dependent: rank 2
+    return [(H.tolist(), grid), (other.tolist(), pts), (singular.tolist(), grid)]
+
+
+map_points = Exercise(
+    params_name="p_grid",
+    id="plane.map-points-function", points=3, kind="function", answer="map_points",
+    few_variants="a function of its arguments alone: one correct function for every student "
+                 "(the hidden test matrices and points differ)",
+    title="Rectifying a grid of points, as a function (Punkte entzerren)",
+    statement="Write map_points(H, points): H is a 3 × 3 homography (list of rows), points a "
+              "list of n points [[x, y], …]. Return the NumPy array (n, 2) of the mapped "
+              "points $(X, Y)$ with $(u, v, w)^T = H\\,(x, y, 1)^T$, $X = u/w$, $Y = v/w$. "
+              "Raise ValueError if H is singular (det H = 0 relative to its size, "
+              "$|\\det H| \\le 10^{{-6}}\\,\\|H\\|^3$, ‖H‖ the Frobenius norm). Your H for trying it: p_grid.H "
+              "= {H}; the function is tested on other points and matrices.",
+    parameters=_homography_params, reference=lambda p: _map_checked,
+    cases=_grid_cases, rtol=1e-5, atol=1e-7,
+    mistakes=(
+        Mistake("transposed", "H is transposed: (u, v, w)ᵀ = H·(x, y, 1)ᵀ, so u is row 1 "
+                              "of H times (x, y, 1)",
+                lambda p: lambda H, pts: _map_checked(H, pts, transpose=True)),
+        Mistake("no-division", "the division by the third homogeneous coordinate w is "
+                               "missing: X = u/w, Y = v/w",
+                lambda p: lambda H, pts: _map_checked(H, pts, divide=False)),
+        Mistake("xy-swapped", "x and y are swapped: each point is [x, y], and the result "
+                              "[X, Y]",
+                lambda p: lambda H, pts: _map_checked(H, pts, swap=True)),
+    ))
+
+
+# -- 10. the church: homography, a check point and the cross ratio (a scenario) -------------
+#: glass height of the church's windows in window spacings (chapter 07, from the camera)
+CHURCH_HEIGHT = 0.67
+#: measuring precision of a corner, px per coordinate (σ0 of the ten corners, chapter 07)
+CHURCH_SIGMA_PX = 0.5
+
+
+@functools.cache
+def _church_pixels():
+    import json
+    from importlib import resources
+    data = json.loads(resources.files("photolib.data").joinpath("church_windows.json")
+                      .read_text(encoding="utf-8"))
+    return np.array(data["refined_px"], dtype=float).reshape(-1, 2)
+
+
+def _church_facade():
+    return np.array([[k, y] for k in range(5) for y in (CHURCH_HEIGHT, 0.0)], dtype=float)
+
+
+_CORNER_NAMES = tuple(f"window {k} {c}" for k in range(5) for c in ("top-left", "bottom-left"))
+
+
+def _church_params(rng):
+    pix, obj = _church_pixels(), _church_facade()
+    top = sorted(rng.choice(5, 2, replace=False).tolist())
+    bottom = sorted(rng.choice(5, 2, replace=False).tolist())
+    control = [2 * top[0], 2 * top[1], 2 * bottom[1] + 1, 2 * bottom[0] + 1]
+    rest = [i for i in range(10) if i not in control]
+    check = int(rng.choice(rest))
+    T = _transforms().ProjectiveTransform.from_estimate(pix[control], obj[control])
+    H = T.matrix / T.matrix[2, 2]
+    # step 3: four of the five corners of one row, in a random order
+    row = int(rng.integers(2))
+    left_out = int(rng.integers(5))
+    windows = [k for k in range(5) if k != left_out]
+    order = rng.permutation(4).tolist()
+    line = [2 * windows[i] + row for i in order]
+    fmt = lambda pts: _fmt_points(pts, 2)  # noqa: E731
+    return {"control": control, "img": pix[control].tolist(), "obj": obj[control].tolist(),
+            "img_text": fmt(pix[control]), "obj_text": _fmt_points(obj[control], 2),
+            "names": ", ".join(_CORNER_NAMES[i] for i in control),
+            "check": check, "check_name": _CORNER_NAMES[check], "P": pix[check].tolist(),
+            "P_text": fmt(pix[[check]]), "H": H.tolist(),
+            "H_text": "[" + ", ".join("[" + ", ".join(f"{v:.10g}" for v in r) + "]"
+                                      for r in H) + "]",
+            "line": line, "line_pts": pix[line].tolist(), "line_text": fmt(pix[line]),
+            "line_names": ", ".join(_CORNER_NAMES[i] for i in line)}
+
+
+def _church_H(p, swapped=False, transposed=False):
+    img, obj = np.array(p["img"]), np.array(p["obj"])
+    T = _transforms().ProjectiveTransform.from_estimate(*((obj, img) if swapped else (img, obj)))
+    H = T.matrix / T.matrix[2, 2]
+    return H.T if transposed else H
+
+
+def _church_point(p, H=None, divide=True):
+    H = np.array(p["H"]) if H is None else H
+    u = H @ [*p["P"], 1.0]
+    return u[:2] / u[2] if divide else u[:2]
+
+
+def _church_point_atol(p):
+    """A tenth of the σ of X and Y that the corners' measuring precision gives (σ = 0.5 px,
+    through the Jacobian of the transformation at the point): an answer rounded to 0.001
+    spacings passes, a method error of the size of the measuring noise does not."""
+    H = np.array(p["H"])
+    J = np.zeros((2, 2))
+    for j in range(2):
+        e = np.zeros(2)
+        e[j] = 1e-3
+        J[:, j] = (_church_point({**p, "P": np.add(p["P"], e).tolist()})
+                   - _church_point({**p, "P": np.subtract(p["P"], e).tolist()})) / 2e-3
+    del H
+    return 0.0, 0.1 * CHURCH_SIGMA_PX * np.sqrt((J ** 2).sum(axis=1))
+
+
+def _church_H_atol(p):
+    """The rounding of the printed pixel coordinates (half of 0.01 px), propagated to each
+    entry of H, plus float32."""
+    from photolib.grading.judge import propagated_atol
+    return 1e-6, propagated_atol(_church_H, p, {"img": 0.005}, floor=1e-12)
+
+
+church_homography = Exercise(
+    params_name="p_church", scenario="plane.church-homography",
+    id="plane.church-homography", points=3, kind="array", answer="H_church",
+    title="Step 1 of 3: Rectifying a real façade — the projective transformation",
+    statement="The photograph church.png (photolib.data.church(), treated as an archival "
+              "photograph) shows the church's aisle wall with five windows. Four glass "
+              "corners ({names}) were measured at (col, row) [px] {img_text} "
+              "(p_church.img, precision 0.5 px); on the façade (window spacings, glass height "
+              "0.67) they are at (X, Y) {obj_text} (p_church.obj). Determine the projective "
+              "transformation image (col, row) → façade (X, Y) and give it as the 3 × 3 "
+              "NumPy array H, $(X, Y, 1)^T \\propto H\\,(col, row, 1)^T$, scaled to "
+              "$h_{{33}} = 1$.",
+    parameters=_church_params, reference=_church_H, tolerance=_church_H_atol,
+    exact=("obj",),  # the façade system is defined by them
+    mistakes=(
+        Mistake("swapped", "this is the transformation façade → image: estimate image → "
+                           "façade (or invert H)", lambda p: _church_H(p, swapped=True)),
+        Mistake("transposed", "H is transposed: (X, Y, 1)ᵀ ∝ H·(col, row, 1)ᵀ",
+                lambda p: _church_H(p, transposed=True)),
+    ))
+
+church_point = Exercise(
+    params_name="p_church_point", scenario="plane.church-homography",
+    id="plane.church-point", points=2, kind="array", answer="XY_check",
+    title="Step 2 of 3: Rectifying a real façade — a check point",
+    statement="With the transformation of step 1, H = {H_text} (p_church_point.H, image "
+              "(col, row) → façade), rectify the check point {check_name}, measured at "
+              "(col, row) = {P_text} px: give its façade coordinates as the NumPy array "
+              "[X, Y] in window spacings (to 0.001).",
+    parameters=_church_params, reference=_church_point, tolerance=_church_point_atol,
+    mistakes=(
+        Mistake("no-division", "the division by the third homogeneous coordinate is "
+                               "missing: X = u/w, Y = v/w",
+                lambda p: _church_point(p, divide=False)),
+        Mistake("transposed", "H is transposed: (u, v, w)ᵀ = H·(col, row, 1)ᵀ",
+                lambda p: _church_point(p, H=np.array(p["H"]).T)),
+        Mistake("swapped", "this applies the inverse of H (façade → image): H maps the "
+                           "image to the façade",
+                lambda p: _church_point(p, H=np.linalg.inv(np.array(p["H"])))),
+    ))
+
+
+def _church_lambda(p, pts=None):
+    P = np.array(p["line_pts"] if pts is None else pts)
+    return _transforms().cross_ratio(*P, atol=0.01)
+
+
+def _church_lambda_atol(p):
+    """A tenth of σ_λ propagated from the corners' precision (0.5 px per coordinate)."""
+    P = np.array(p["line_pts"]).ravel()
+    grad = [(_church_lambda(p, (P + e).reshape(4, 2)) - _church_lambda(p, (P - e).reshape(4, 2)))
+            / 2e-3 for e in 1e-3 * np.eye(8)]
+    return 0.0, 0.1 * CHURCH_SIGMA_PX * float(np.linalg.norm(grad))
+
+
+def _church_lambda_facade(p):
+    obj = _church_facade()[p["line"]]
+    value = _transforms().cross_ratio(*obj)
+    return None if abs(value - _church_lambda(p)) < 3 * _church_lambda_atol(p)[1] else value
+
+
+church_cross_ratio = Exercise(
+    params_name="p_church_cr", scenario="plane.church-homography",
+    id="plane.church-cross-ratio", points=2, kind="number", answer="lam_church",
+    title="Step 3 of 3: Rectifying a real façade — the cross ratio of a row of windows",
+    statement="Four collinear corners of the same photograph, A, B, C, D = {line_names}, "
+              "were measured at (col, row) [px] {line_text} (p_church_cr.line_pts). Compute "
+              "their cross ratio (Doppelverhältnis) as the course defines it, "
+              "$\\lambda = \\overline{{AB}}\\cdot\\overline{{CD}} / (\\overline{{BC}}\\cdot"
+              "\\overline{{AD}})$ with signed segments along the fitted line, from the "
+              "measured image points (to 4 decimals; the points are collinear only to the "
+              "measuring precision, so pass atol=0.01 to pl.cross_ratio).",
+    parameters=_church_params, reference=_church_lambda, tolerance=_church_lambda_atol,
+    mistakes=(
+        Mistake("facade", "this is the cross ratio of the façade positions; the task asks "
+                          "for the one measured in the image (they agree only to σ_λ)",
+                _church_lambda_facade),
+        Mistake("classical", "this is the classical cross ratio (A, B; C, D) = AC·BD/(BC·AD) "
+                             "= λ + 1; the course's λ is AB·CD/(BC·AD)",
+                lambda p: _church_lambda(p) + 1.0),
+        Mistake("erratum", "this is 1/(A, B; C, D), the cross ratio as first printed "
+                           "(luhmann:2.21); the course uses the corrected λ = AB·CD/(BC·AD)",
+                lambda p: 1.0 / (_church_lambda(p) + 1.0)),
+    ))
+
+
 EXERCISES = (helmert_two_points, helmert_angle, projective_point, cross_ratio,
-             cross_ratio_solved, fiducial_affine, bilinear_function)
+             cross_ratio_solved, fiducial_centroid, fiducial_affine, fiducial_sigma0,
+             bilinear_function, homography_function, map_points, church_homography,
+             church_point, church_cross_ratio)
