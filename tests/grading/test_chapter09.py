@@ -34,6 +34,7 @@ class TestChapter09(ChapterChecks):
     chapter_name = "09-stereo"
     kinds = {"number", "array", "function", "choice"}
     students = STUDENTS
+    scalar_cases = False            # st.rays and st.ro-step take image points and arrays
 
 
 def test_intersection_cases_have_a_positive_parallax():
