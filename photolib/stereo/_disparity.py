@@ -159,10 +159,32 @@ def _texture(gray, half):
 def textured_points(gray, n, half=7, spacing=12, border=None, valid=None):
     """Up to ``n`` well-textured pixels (col, row) of ``gray`` on a grid, best first.
 
-    Candidates are the pixels of a grid of ``spacing`` px (at least ``border`` px from the
-    edge, default ``half + 1``); they are ranked by the smallest eigenvalue of the structure
-    tensor of their (2·half + 1)² window (Förstner's / Shi–Tomasi's interest value: texture
-    in every direction) and those with ``valid[row, col]`` False are dropped.
+    Parameters
+    ----------
+    gray : array_like, shape (H, W)
+        Grey-value image.
+    n : int
+        Number of points wanted (≥ 1).
+    half : int
+        Half size of the (2·half + 1)² window the texture is measured in.
+    spacing : int
+        Grid spacing of the candidates (px).
+    border : int, optional
+        Smallest distance of a candidate from the image edge (default ``half + 1``).
+    valid : array_like of bool, shape (H, W), optional
+        Candidates where it is False are dropped (e.g. no ground truth).
+
+    Returns
+    -------
+    ndarray, shape (≤ n, 2)
+        (col, row) as floats, ranked by the smallest eigenvalue of the structure tensor of
+        their window (Förstner's / Shi–Tomasi's interest value: texture in every direction).
+
+    Examples
+    --------
+    >>> img = np.zeros((40, 40)); img[20:, 20:] = 1.0          # one corner at (20, 20)
+    >>> textured_points(img, 1, half=3, spacing=4).tolist()
+    [[20.0, 20.0]]
     """
     gray = as_float_array(gray, "gray")
     if gray.ndim != 2:
@@ -206,6 +228,15 @@ def match_disparities(left, right, points, d_range, half=7, lsm=True):
     d, sigma, rho : ndarray, shape (N,)
         Disparity ``u_left − u_right`` (px; NaN where no match), its σ (px: σ of the LSM
         shift a0, NaN without LSM) and the NCC peak.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> right = rng.uniform(0, 255, (30, 80))
+    >>> left = np.roll(right, 12, axis=1)                    # every point 12 px further right
+    >>> d, _, rho = match_disparities(left, right, [[40, 15]], (5, 20), half=4, lsm=False)
+    >>> np.round(d, 1).tolist(), bool(rho[0] > 0.99)        # subpixel parabola: 12 ± 0.01
+    ([12.0], True)
     """
     from photolib.correlation import ncc_match
     from photolib.matching import least_squares_matching

@@ -134,6 +134,18 @@ def estimate_fundamental_ransac(xy1, xy2, threshold, *, rng=0):
     -------
     F, inliers : ndarray (3, 3), ndarray (N,) of bool
         F refitted on the inliers.
+
+    Examples
+    --------
+    >>> import photolib as pl
+    >>> rng = np.random.default_rng(1)
+    >>> X = rng.uniform([-5, -5, -30], [5, 5, -20], (30, 3))
+    >>> a = pl.project(X, [0, 0, 0], np.eye(3), 50.0)
+    >>> b = pl.project(X, [4.0, 0.5, 0.0], pl.rotation_opk(0.02, -0.05, 0.01), 50.0)
+    >>> b[:4] += [[0.0, 0.5]]                      # four gross mismatches (mm)
+    >>> F, inl = estimate_fundamental_ransac(a, b, 1e-3, rng=0)
+    >>> int(inl.sum()), bool(inl[:4].any())
+    (26, False)
     """
     from photolib.correlation import ransac
     p1, _ = as_points(xy1, 2, "xy1")
