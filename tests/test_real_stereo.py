@@ -105,10 +105,11 @@ def test_fundamental_of_the_rectified_pair_is_the_normal_case(depth):
     assert min(np.abs(F - F_normal).max(), np.abs(F + F_normal).max()) < 1e-6
 
 
-def test_fundamental_of_rocks2_agrees_with_opencv():
+@pytest.mark.parametrize("name", ["building2", "rocks2"])
+def test_fundamental_of_an_unrectified_pair_agrees_with_opencv(name):
     cv2 = pytest.importorskip("cv2")
     from photolib.nb import stereo as ns
-    e = ns.real_epipolar()
+    e = ns.real_epipolar(name)
     x1, x2 = e["x1"][e["inliers"]], e["x2"][e["inliers"]]
     assert len(x1) > 100 and np.median(e["distances"]) < 0.3
     F_cv = cv2.findFundamentalMat(x1, x2, cv2.FM_8POINT)[0].T

@@ -661,28 +661,41 @@ def plot_depth_histogram(r: RealDepth):
     return finished(fig)
 
 
-def real_epipolar(scale: float = 0.5, threshold: float = 1.0, seed: int = 0) -> dict:
-    """F of the unrectified rocks2 pair from SIFT matches (OpenCV measures, photolib estimates).
+def real_epipolar(name: str = "building2", scale: float = 0.5, threshold: float = 1.0,
+                  seed: int = 0) -> dict:
+    """F of an unrectified real pair from SIFT matches (OpenCV measures, photolib estimates).
 
+    ``name``: ``"building2"`` (views 1 and 2 of mvtb-data's building2) or ``"rocks2"``.
     OpenCV's SIFT finds and matches features (ratio test 0.75) in the pair scaled by
-    ``scale``; :func:`photolib.stereo._fundamental.estimate_fundamental_ransac` estimates F
+    ``scale``; :func:`photolib.stereo.estimate_fundamental_ransac` estimates F
     (``h1ᵀ F h2 = 0``, pixel coordinates (col, row) of the scaled images) with RANSAC.
     """
     import cv2
 
     from photolib import data
-    from photolib.stereo._fundamental import epipolar_distances, estimate_fundamental_ransac
-    p = data.stereo_pair("rocks2")
-    grey = [cv2.resize(cv2.cvtColor(np.ascontiguousarray(im[..., :3]), cv2.COLOR_RGB2GRAY),
-                       None, fx=scale, fy=scale, interpolation=cv2.INTER_AREA)
-            for im in (p.left, p.right)]
+    from photolib.stereo import epipolar_distances, estimate_fundamental_ransac
+    if name == "building2":
+        images = data.building2().images[:2]
+    elif name == "rocks2":
+        p = data.stereo_pair("rocks2")
+        images = (p.left, p.right)
+    else:
+        raise ValueError(f"name must be 'building2' or 'rocks2', got {name!r}")
+    grey = []
+    for im in images:
+        im = np.asarray(im)
+        if im.ndim == 3:
+            im = cv2.cvtColor(np.ascontiguousarray(im[..., :3]), cv2.COLOR_RGB2GRAY)
+        if im.dtype != np.uint8:
+            im = np.clip(im * (255.0 if im.max() <= 1.0 else 1.0), 0, 255).astype(np.uint8)
+        grey.append(cv2.resize(im, None, fx=scale, fy=scale, interpolation=cv2.INTER_AREA))
     sift = cv2.SIFT_create(nfeatures=800)
     (k1, d1), (k2, d2) = (sift.detectAndCompute(g, None) for g in grey)
     pairs = [m for m, n in cv2.BFMatcher().knnMatch(d1, d2, k=2) if m.distance < 0.75 * n.distance]
     x1 = np.array([k1[m.queryIdx].pt for m in pairs])
     x2 = np.array([k2[m.trainIdx].pt for m in pairs])
     F, inl = estimate_fundamental_ransac(x1, x2, threshold, rng=seed)
-    return {"F": F, "x1": x1, "x2": x2, "inliers": inl, "images": grey,
+    return {"name": name, "F": F, "x1": x1, "x2": x2, "inliers": inl, "images": grey,
             "distances": epipolar_distances(F, x1[inl], x2[inl])}
 
 
@@ -693,7 +706,7 @@ def _draw_lines(ax, lines, width, colour):
 
 
 def plot_real_epipolar(e: dict, rectified: RealDepth | None = None, n: int = 8):
-    """Epipolar lines of ``n`` points of image 1 drawn in image 2 (rocks2), and on the
+    """Epipolar lines of ``n`` points of image 1 drawn in image 2 (unrectified), and on the
     rectified motorcycle pair the same lines: rows."""
     import matplotlib.pyplot as plt
 
@@ -705,7 +718,7 @@ def plot_real_epipolar(e: dict, rectified: RealDepth | None = None, n: int = 8):
     colours = plt.cm.tab10(np.arange(n) % 10)
     axes[0].imshow(g1, cmap="gray")
     axes[0].scatter(*e["x1"][pick].T, c=colours, s=25, edgecolors="w")
-    axes[0].set(title="rocks2, image 1: points", xticks=[], yticks=[])
+    axes[0].set(title=f"{e['name']}, image 1: points", xticks=[], yticks=[])
     axes[1].imshow(g2, cmap="gray")
     lines = pl.epipolar_lines(e["F"], e["x1"][pick], image=2)
     for ln, col in zip(lines, colours):
@@ -752,7 +765,8 @@ def plot_orientation_comparison(cmp: dict):
         ax.scatter(mp[:, i], mp[:, j], s=8, color="#d62728",
                    label="independent, rotated by R1ᵀ and scaled")
         ax.set(xlabel="X [model]", ylabel=f"{lab} [model]", aspect="equal")
-    axes[0].legend(fontsize=7)
+    handles, labels = axes[0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=2, fontsize=7, frameon=False)
     fig.suptitle(f"one model: largest difference {cmp['difference']:.1e} model units")
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.08, 1, 1))
     return finished(fig)
