@@ -102,6 +102,9 @@ _EXPORTS = {
     "normal_case_accuracy": "stereo", "normal_case_points": "stereo",
     "normal_case_rotation": "stereo", "normalised_image_points": "stereo",
     "relative_orientation": "stereo", "independent_relative_orientation": "stereo",
+    "depth_from_disparity": "stereo", "depth_sigma": "stereo", "points_from_disparity": "stereo",
+    "match_disparities": "stereo", "textured_points": "stereo", "epipolar_distances": "stereo",
+    "estimate_fundamental": "stereo", "estimate_fundamental_ransac": "stereo",
     # chapter 12: products (orthophoto, true orthophoto, mosaic) and the glossary
     "DTM": "orthophoto", "FrameCamera": "orthophoto", "OutsideModelError": "orthophoto",
     "differential_rectification": "orthophoto", "mosaic_nearest_nadir": "orthophoto",

@@ -163,3 +163,35 @@ def test_artificial_stereo_rays_meet_at_the_fused_point():
     np.testing.assert_allclose(fig.fused, P, atol=1e-9)
     with pytest.raises(ValueError):
         ns.plot_artificial_stereo(e, d, e)                # parallel rays: no fused point
+
+
+# -- the real-photograph and independent-orientation helpers of chapter 09 ------------------------
+
+def test_compare_orientations_is_one_model_by_the_true_cameras():
+    # independent route: the model of exact data is the object scene in the frame of camera 1,
+    # scaled to the dependent base (truth from the scene's construction)
+    s = ns.pair_scene(noise_um=0.0)
+    cmp = ns.compare_orientations(s)
+    assert cmp["difference"] < 1e-9
+    b = s["R1"].T @ (s["X02"] - s["X01"])
+    truth = (s["X"] - s["X01"]) @ s["R1"] / b[0]
+    np.testing.assert_allclose(cmp["dependent"].model, truth, atol=1e-8)
+    np.testing.assert_allclose(cmp["mapped"], truth, atol=1e-8)
+
+
+def test_real_figures_draw():
+    r = ns.real_depth(n=60)
+    assert len(r["d"]) > 30
+    for fig in (ns.plot_real_depth(r), ns.plot_depth_histogram(r),
+                ns.plot_orientation_comparison(ns.compare_orientations())):
+        assert fig is not None
+    e = ns.real_epipolar()
+    assert ns.plot_real_epipolar(e, r, n=4) is not None
+
+
+def test_real_epipolar_lines_pass_through_the_matches():
+    e = ns.real_epipolar()
+    inl = e["inliers"]
+    lines = pl.epipolar_lines(e["F"], e["x1"][inl], image=2)
+    dist = np.abs(np.sum(lines[:, :2] * e["x2"][inl], axis=1) + lines[:, 2])
+    assert np.median(dist) < 0.3                          # px, on the half-size images

@@ -246,3 +246,47 @@ def orientation_unknowns():
     if diff.applyfunc(sp.expand) != sp.zeros(3, 3):
         raise AssertionError("[Q·b]× ≠ Q·[b]×·Qᵀ")
     return {"exterior": 12, "relative": 12 - 7, "absolute": 7}
+
+
+# -- chapter 09, real photographs: a rectified pixel pair (Middlebury calibration) ---------------
+
+#: pixel quantities: columns u1, u2 and row v of a point, principal points cx1, cx2, cy, focal
+#: length f (px), pixel pitch p (mm/px), disparity d = u1 − u2 and doffs = cx2 − cx1
+u1, u2, v_row, cx1, cx2, cy = sp.symbols("u1 u2 v c_x1 c_x2 c_y", real=True)
+f_px, pitch = sp.symbols("f p", positive=True)
+d_px, doffs = sp.symbols("d d_offs", real=True)
+s_d = sp.symbols("sigma_d", positive=True)
+Z_depth = sp.symbols("Z_s", negative=True)      #: a depth in front of the camera
+
+
+def depth_from_disparity():
+    """``(X, Y, Z)`` of a rectified pair from pixels, solved from the collinearity equations.
+
+    Camera 1 at the origin, camera 2 at (B, 0, 0), R = I, camera constant ``c = f·p``; the
+    image coordinates reduced to each image's principal point are ``x' − x'0 = (u − cx)·p``
+    and ``y' − y'0 = −(v − cy)·p`` (rows down, y' up). Eliminating u2 by ``d = u1 − u2``
+    and cx2 by ``doffs = cx2 − cx1``: the pitch p cancels.
+
+    >>> Xs, Ys, Zs = depth_from_disparity()
+    >>> sp.simplify(Zs + f_px*B/(d_px + doffs)), sp.simplify(Xs - (u1 - cx1)*B/(d_px + doffs))
+    (0, 0)
+    """
+    xa, ya = image_coordinates_normal_case(1)
+    xb, _ = image_coordinates_normal_case(2)
+    eqs = [sp.Eq(xa - x0, (u1 - cx1) * pitch), sp.Eq(ya - y0, -(v_row - cy) * pitch),
+           sp.Eq(xb - x0, (u2 - cx2) * pitch)]
+    sol = sp.solve([e.subs(c, f_px * pitch) for e in eqs], [X, Y, Z], dict=True)[0]
+    sub = {u2: u1 - d_px, cx2: cx1 + doffs}
+    return tuple(sp.simplify(sol[k].subs(sub)) for k in (X, Y, Z))
+
+
+
+def sigma_depth_disparity():
+    """``σ_Z = |∂Z/∂d|·σ_d`` of ``Z = −f·B/(d + doffs)``, written with Z: ``Z²/(f·B)·σ_d``.
+
+    >>> sp.simplify(sigma_depth_disparity() - Z_depth**2/(f_px*B)*s_d)
+    0
+    """
+    dZ = sp.diff(depth_from_disparity()[2], d_px)
+    # at the depth Z_depth: d + doffs = −f·B/Z
+    return sp.simplify(sp.Abs(dZ.subs(d_px, -f_px * B / Z_depth - doffs)) * s_d)

@@ -70,3 +70,21 @@ __all__ = [
     "normalised_image_points",
     "relative_orientation",
 ]
+
+# chapter 09, real photographs: depth from disparity, the fundamental matrix from points
+from photolib.stereo._disparity import (  # noqa: E402
+    depth_from_disparity,
+    depth_sigma,
+    match_disparities,
+    points_from_disparity,
+    textured_points,
+)
+from photolib.stereo._fundamental import (  # noqa: E402
+    epipolar_distances,
+    estimate_fundamental,
+    estimate_fundamental_ransac,
+)
+
+__all__ += ["depth_from_disparity", "depth_sigma", "match_disparities", "points_from_disparity",
+            "textured_points", "epipolar_distances", "estimate_fundamental",
+            "estimate_fundamental_ransac"]

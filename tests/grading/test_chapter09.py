@@ -34,6 +34,7 @@ class TestChapter09(ChapterChecks):
     chapter_name = "09-stereo"
     kinds = {"number", "array", "function", "choice"}
     students = STUDENTS
+    scalar_cases = False            # st.rays and st.ro-step take image points and arrays
 
 
 def test_intersection_cases_have_a_positive_parallax():
@@ -235,3 +236,90 @@ def test_object_orientations_agree_with_the_space_resection():
         res = pl.space_resection(s["X"], xy, ns.C_MM, initial=start)
         np.testing.assert_allclose(X0[i], res.X0, atol=1e-7)
         np.testing.assert_allclose(R[i], pl.rotation_opk(res.omega, res.phi, res.kappa), atol=1e-9)
+
+
+# -- the new exercises by independent routes ------------------------------------------------------
+
+@pytest.mark.parametrize("sid", STUDENTS[:3])
+def test_rays_reference_agrees_with_opencv(sid):
+    import photolib as pl
+    ex = BY_ID["st.rays"]
+    p = parameters_for(ex, sid)
+    f = ex.reference(p)
+    R1, R2 = ch09._ray_rotations(p)
+    cases = ex.cases(rng_for(sid, ex.id, "public"), p)
+    Ps = []
+    for X0, R in ((np.zeros(3), R1), (np.array(p.X02), R2)):
+        Rc, t = pl.opencv_pose_from_exterior(X0, R)
+        Ps.append(np.diag([p.c_mm, p.c_mm, 1.0]) @ np.column_stack([Rc, t]))
+    for a, b in cases[:3]:                                   # the exact cases: rays meet
+        H = cv2.triangulatePoints(Ps[0], Ps[1], np.array([[a[0]], [-a[1]]]),
+                                  np.array([[b[0]], [-b[1]]]))
+        np.testing.assert_allclose(f(a, b), (H[:3] / H[3]).ravel(), rtol=1e-6, atol=1e-6)
+    with pytest.raises(ValueError, match="parallel"):
+        f(*cases[-1])
+
+
+@pytest.mark.parametrize("sid", STUDENTS[:3])
+def test_ro_step_reference_is_photolibs_first_iteration(sid):
+    import photolib as pl
+    ex = BY_ID["st.ro-step"]
+    p = parameters_for(ex, sid)
+    f = ex.reference(p)
+    cases = ex.cases(rng_for(sid, ex.id, "public"), p)
+    for a, b, q0 in cases[:-1]:
+        ro = pl.relative_orientation(a, b, p.c_mm, bx=p.bx, initial=q0, max_iter=1, check=False)
+        np.testing.assert_allclose(f(a, b, q0), ro.params, rtol=1e-9, atol=1e-12)
+        # iterating the step converges to photolib's adjustment
+        q = np.array(q0)
+        for _ in range(12):
+            q = f(a, b, q)
+        np.testing.assert_allclose(q, pl.relative_orientation(a, b, p.c_mm, bx=p.bx).params,
+                                   atol=1e-9)
+    with pytest.raises(ValueError, match="at least 5"):
+        f(*cases[-1])
+
+
+def test_moto_references_by_the_ground_truth():
+    # the measured disparity of every variant lies within 2σ_d of the structured-light truth,
+    # and the depth is Middlebury's Z = f·B/(d + doffs) (as a distance)
+    pts, d, d_true, sigma_d = ch09.moto_samples()
+    assert len(pts) >= 100 and 0.05 < sigma_d < 0.5
+    assert np.all(np.abs(d - d_true) < 2 * sigma_d)
+    for sid in STUDENTS[:4]:
+        p = parameters_for(BY_ID["st.moto-depth"], sid)
+        Z = ch09._moto_depth(p)
+        assert Z == pytest.approx(-p.f_px * p.B_mm / (p.d_px + p.doffs_px), rel=1e-12)
+        s = parameters_for(BY_ID["st.moto-sigma"], sid)
+        # σ_Z by a numerical derivative of Z(d)
+        h = 1e-4
+        dZ = (ch09._moto_depth({**p, "d_px": p.d_px + h}) - ch09._moto_depth({**p, "d_px": p.d_px - h})) / (2 * h)
+        assert ch09._moto_sigma(s) == pytest.approx(abs(dZ) * s.sigma_d_px, rel=1e-4)
+
+
+def test_moto_tolerance_is_three_sigma_d():
+    ex = BY_ID["st.moto"]
+    p = parameters_for(ex, STUDENTS[0])
+    assert ex.tolerance(p)[1] == pytest.approx(3 * ch09.moto_samples()[3], abs=0.006)
+    d = ch09._moto_disparity(p)
+    assert _judge(ex, STUDENTS[0], d + 0.9 * ex.tolerance(p)[1]).status == "correct"
+
+
+@pytest.mark.parametrize("sid", STUDENTS[:3])
+def test_iro_reference_by_the_projection(sid):
+    # independent route: the pair is projected from known cameras; the orientation found must
+    # reproject: x'2 of each point from the model matches the printed one (coplanarity exact
+    # up to the 0.1 µm rounding of the print)
+    import photolib as pl
+    p = parameters_for(BY_ID["st.iro-model"], sid)
+    q = parameters_for(BY_ID["st.iro"], sid)
+    ang = ch09._iro(q)
+    np.testing.assert_allclose(ang, [p[f"{n}_deg"] for n in ch09._IRO], atol=5e-7)
+    R1, R2 = pl.rotation_opk(0.0, *np.radians(ang[:2])), pl.rotation_opk(*np.radians(ang[2:]))
+    E = pl.essential_matrix(np.zeros(3), R1, [1.0, 0, 0], R2)
+    for a, b in zip(q.xy1, q.xy2):
+        r = np.array([*a, -q.c_mm]) @ E @ np.array([*b, -q.c_mm])
+        assert abs(r) < 1e-3 * q.c_mm                      # mm², the print's rounding
+    P = ch09._iro_model(p)
+    for xy, X0, R in ((p.P1, np.zeros(3), R1), (p.P2, np.array([1.0, 0, 0]), R2)):
+        np.testing.assert_allclose(pl.project(P, X0, R, p.c_mm), xy, atol=1e-3)
