@@ -12,6 +12,7 @@
 
 from __future__ import annotations
 
+import math
 import re
 import string
 from collections import OrderedDict
@@ -20,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from photolib.grading.encode import NONE, NOT_ANSWERED, Raised, Unsupported, unanswered
-from photolib.grading.hints import generic_mistakes
+from photolib.grading.hints import MESSAGES, generic_mistakes
 
 __all__ = ["FunctionOutputs", "Judgement", "compare", "judge", "printed_half_units",
            "printed_tolerance", "propagated_atol", "rounding_tolerance"]
@@ -707,6 +708,9 @@ def judge(exercise, params, answer, outputs_of=None) -> Judgement:
     rounded = _rounded_mistake(exercise, answer, expected, params, tried, tolerances)
     if rounded is not None:
         return verdict("wrong", f"not correct: {rounded.message}", mistake=rounded.tag)
+    near = _near_miss(exercise, answer, expected, params)
+    if near is not None:
+        return verdict("wrong", f"not correct: {near[1]}", mistake=near[0])
     return verdict("wrong", "not correct" + (f": {reason}" if reason else ""),
                    mistake=_reason_tag(reason))
 
@@ -780,6 +784,84 @@ def _rounded_mistake(exercise, answer, expected, params, tried, tolerances):
         except Exception:  # noqa: BLE001 - a value that cannot be compared gives no hint
             continue
     return next(iter(found.values())) if len(found) == 1 else None
+
+
+#: an answer off by no more than half a unit of its second significant digit (entry by
+#: entry, relative to the largest entry) is a near miss of precision, not of method
+NEAR_DIGITS = 2
+
+
+def _given_values(exercise, answer, expected):
+    """``[(given, expected)]`` float arrays of a number, array or function answer, or []."""
+    if exercise.kind == "number":
+        given = _as_number(answer)
+        return [(np.asarray(given, float), np.asarray(expected, float))] \
+            if isinstance(given, float) else []
+    if exercise.kind in ("array", "rotation"):
+        given = _numeric_matrix(answer, np.ndim(expected))
+        return [(given, np.asarray(expected, float))] if isinstance(given, np.ndarray) else []
+    if exercise.kind == "function" and isinstance(answer, FunctionOutputs) and not answer.error:
+        pairs = []
+        for got, want in zip(answer.outputs, expected):
+            if isinstance(want, Raised) or isinstance(got, Raised):
+                continue
+            got = _numeric_matrix(_as_number(got), np.ndim(want))
+            if not isinstance(got, (float, np.ndarray)):
+                return []
+            pairs.append((np.asarray(got, float), np.asarray(want, float)))
+        return pairs
+    return []
+
+
+def _near_miss(exercise, answer, expected, params):
+    """``(tag, message)`` of a near miss no mistake rule explains, or None.
+
+    * ``"unnormalised"``: the answer (or each output) is a vector parallel to a unit vector
+      expected, with another length;
+    * ``"digits"``: every entry agrees with the reference to :data:`NEAR_DIGITS` significant
+      digits of the largest entry, but not within the tolerance: the message says how many
+      digits agree and the precision the task asks for
+      (:func:`photolib.grading.precision.for_variant`).
+    """
+    try:
+        pairs = _given_values(exercise, answer, expected)
+    except Exception:  # noqa: BLE001 - an answer that cannot be read gives no hint
+        return None
+    pairs = [(g, e) for g, e in pairs if g.shape == e.shape and np.all(np.isfinite(g))
+             and e.size and np.all(np.isfinite(e))]
+    if not pairs:
+        return None
+
+    def unnormalised(g, e):
+        ne, ng = np.linalg.norm(e), np.linalg.norm(g)
+        return (e.ndim == 1 and e.size > 1 and abs(ne - 1.0) < 1e-6 and ng > 0
+                and abs(ng - 1.0) > 1e-3 and np.allclose(g / ng, e, rtol=0, atol=1e-3))
+
+    if all(unnormalised(g, e) for g, e in pairs):
+        return "unnormalised", MESSAGES["unnormalised"]
+    scale = [float(np.max(np.abs(e))) for _, e in pairs]
+    if not all(s > 0 for s in scale):
+        return None
+    errors = [float(np.max(np.abs(g - e))) / s for (g, e), s in zip(pairs, scale)]
+    worst = max(errors)
+    if not 0 < worst <= 0.5 * 10.0 ** (1 - NEAR_DIGITS):
+        return None
+    agree = max(1, int(math.floor(-math.log10(2 * worst))) + 1)
+    from photolib.grading.precision import for_variant
+    try:
+        asked, _ = for_variant(exercise, params, _filled(exercise, params))
+    except Exception:  # noqa: BLE001 - no precision to name: the hint without it
+        asked = None
+    wanted = f"; give it {asked.text()}" if asked is not None and asked.value else ""
+    return "digits", (f"close: your answer agrees to about {agree} significant digit"
+                      f"{'s' if agree > 1 else ''}, which is not the precision asked{wanted}")
+
+
+def _filled(exercise, params) -> str:
+    try:
+        return exercise.statement.format(**params)
+    except (KeyError, IndexError, ValueError):
+        return exercise.statement
 
 
 def _closer_to_zero(exercise, answer, wrong, params, tolerances=None) -> bool:
