@@ -786,9 +786,38 @@ def _rounded_mistake(exercise, answer, expected, params, tried, tolerances):
     return next(iter(found.values())) if len(found) == 1 else None
 
 
-#: an answer off by no more than half a unit of its second significant digit (entry by
-#: entry, relative to the largest entry) is a near miss of precision, not of method
-NEAR_DIGITS = 2
+#: the roundings (significant digits, or decimals) an answer is compared with as a near miss
+NEAR_DIGITS = range(1, 11)
+
+
+def _rounded_digits(pairs):
+    """The fewest significant digits to which some entry of the answers is the reference
+    rounded or cut off (every entry being such a rounding, to any digits or decimals), or None.
+
+    >>> _rounded_digits([(np.array(1.23), np.array(1.23456))])
+    3
+    >>> _rounded_digits([(np.array(1.2469), np.array(1.23456))]) is None
+    True
+    """
+    fewest = None
+    for given, want in pairs:
+        for g, e in zip(np.ravel(given), np.ravel(want)):
+            if g == e or e == 0:
+                continue
+            exponent = math.floor(math.log10(abs(e)))
+            found = None
+            for k in NEAR_DIGITS:
+                step = 10.0 ** (exponent - k + 1)
+                for r in (round(e / step) * step, math.trunc(e / step) * step):
+                    if abs(g - r) <= 1e-9 * abs(e) + 1e-300:
+                        found = k
+                        break
+                if found:
+                    break
+            if found is None:
+                return None
+            fewest = found if fewest is None else min(fewest, found)
+    return fewest
 
 
 def _given_values(exercise, answer, expected):
@@ -839,22 +868,18 @@ def _near_miss(exercise, answer, expected, params):
 
     if all(unnormalised(g, e) for g, e in pairs):
         return "unnormalised", MESSAGES["unnormalised"]
-    scale = [float(np.max(np.abs(e))) for _, e in pairs]
-    if not all(s > 0 for s in scale):
+    agree = _rounded_digits(pairs)
+    if agree is None:
         return None
-    errors = [float(np.max(np.abs(g - e))) / s for (g, e), s in zip(pairs, scale)]
-    worst = max(errors)
-    if not 0 < worst <= 0.5 * 10.0 ** (1 - NEAR_DIGITS):
-        return None
-    agree = max(1, int(math.floor(-math.log10(2 * worst))) + 1)
     from photolib.grading.precision import for_variant
     try:
         asked, _ = for_variant(exercise, params, _filled(exercise, params))
     except Exception:  # noqa: BLE001 - no precision to name: the hint without it
         asked = None
     wanted = f"; give it {asked.text()}" if asked is not None and asked.value else ""
-    return "digits", (f"close: your answer agrees to about {agree} significant digit"
-                      f"{'s' if agree > 1 else ''}, which is not the precision asked{wanted}")
+    return "digits", (f"close: your answer is the correct value rounded to {agree} "
+                      f"significant digit{'s' if agree > 1 else ''}, which is not the "
+                      f"precision asked{wanted}")
 
 
 def _filled(exercise, params) -> str:

@@ -60,6 +60,13 @@ class Precision:
         """The words of the statement: ``"to 0.001 mm"``, ``"to 4 significant digits"``."""
         if self.kind == "significant":
             return f"to {int(self.value)} significant digits"
+        if self.kind == "whole":
+            return "exactly (a whole number)"
+        if self.value < 1e-3:
+            return f"to {-round(math.log10(self.value))} decimals" + (
+                f" (in {self.unit})" if self.unit else "")
+        if self.value >= 1:
+            return f"to the nearest {self.value:.0f}" + (f" {self.unit}" if self.unit else "")
         step = _step_text(self.value)
         return f"to {step} {self.unit}".rstrip() if self.unit not in ("°", "%") else \
             f"to {step}{self.unit}"
@@ -67,6 +74,8 @@ class Precision:
     def half(self, reference) -> np.ndarray:
         """Largest rounding error of an answer rounded as stated, per entry of ``reference``."""
         ref = np.abs(np.asarray(reference, float))
+        if self.kind == "whole":
+            return np.zeros(ref.shape)
         if self.kind == "significant":
             with np.errstate(divide="ignore"):
                 exponent = np.where(ref > 0, np.floor(np.log10(np.where(ref > 0, ref, 1.0))), 0)
@@ -76,7 +85,9 @@ class Precision:
     def round(self, value):
         """``value`` rounded as stated (what a careful student answers)."""
         v = np.asarray(value, float)
-        if self.kind == "significant":
+        if self.kind == "whole":
+            out = np.round(v)
+        elif self.kind == "significant":
             out = np.zeros_like(v)
             nz = v != 0
             exponent = np.floor(np.log10(np.abs(v[nz])))
@@ -113,21 +124,42 @@ def stated_in_words(text: str) -> Precision | None:
     return None
 
 
+_ASKED_IN = re.compile(r"\bin \**(µm|μm|mm|cm|m|km|px|pixels|degrees|gon|radians|rad|e⁻|dB|DN)"
+                       r"\**(?![\w²³⁻])|\((µm|mm|cm|m|px|gon|rad)\)")
+_UNIT_NAMES = {"μm": "µm", "degrees": "°", "radians": "rad"}
+
+
+def answer_unit_words(exercise) -> str:
+    """The unit the answer is asked in, as the precision line names it: ``exercise.unit``,
+    else the last "in mm", "in **cm**", "in degrees", "(µm)" of the statement; else ``""``.
+
+    >>> from photolib.grading.spec import Exercise
+    >>> answer_unit_words(Exercise(id="d.u", points=1, title="", kind="number", answer="x",
+    ...     statement="Give the angle in degrees.", parameters=None, reference=None))
+    '°'
+    """
+    if getattr(exercise, "unit", ""):
+        return exercise.unit
+    found = [a or b for a, b in _ASKED_IN.findall(exercise.statement)]
+    return _UNIT_NAMES.get(found[-1], found[-1]) if found else ""
+
+
 def derived(exercise, params) -> Precision | None:
     """The coarsest decimal step the judge's tolerance grants this variant (see the module),
     in the exercise's unit; None for kinds that are not rounded numbers."""
     if exercise.kind not in ROUNDED_KINDS:
         return None
-    from photolib.grading.hints import answer_unit
     ref = np.asarray(exercise.reference(params), float)
     rtol, atol = exercise.tolerances(params)
     tol = np.broadcast_to(np.asarray(atol, float), ref.shape) + rtol * np.abs(ref)
     smallest = float(np.min(tol)) if tol.size else 0.0
+    if np.all(ref == np.round(ref)) and smallest < 0.5 and exercise.kind == "number":
+        return Precision("whole", 1)
     if not smallest > 0:
         return None
     step = 10.0 ** math.floor(math.log10(2 * MARGIN * smallest))
-    unit = answer_unit(exercise)
-    if step < 1e-6 and exercise.kind == "number" and ref != 0:
+    unit = answer_unit_words(exercise)
+    if step < 1e-6 and exercise.kind == "number" and float(ref) != 0:
         # a step this fine reads better as significant digits
         exponent = math.floor(math.log10(abs(float(ref))))
         return Precision("significant", exponent - round(math.log10(step)) + 1)

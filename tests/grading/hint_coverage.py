@@ -17,7 +17,6 @@ share per family.
 from __future__ import annotations
 
 import math
-from collections import Counter
 
 import numpy as np
 

@@ -183,13 +183,13 @@ def _symbolic_rotation(order: str):
     return sp.ImmutableMatrix(dr.rotation_pok() if order == "pok" else dr.rotation_opk())
 
 
-def _derivative(p, order="opk", sense=1):
+def _derivative(p, order="opk", sense=1, transposed=False):
     from photolib.derive import rotation as dr
     t = {"omega": dr.omega, "phi": dr.phi, "kappa": dr.kappa}[p["angle"]]
     R = _symbolic_rotation(order).as_mutable()
     if sense < 0:
         R = R.xreplace({t: -t})
-    if p["matrix"] == "M":
+    if (p["matrix"] == "M") != transposed:
         R = R.T
     import sympy as sp
     return R.diff(t) * sp.Matrix(p["v"])
@@ -214,6 +214,9 @@ matrix_derivative = Exercise(
         Mistake("sense", f"{hints.MESSAGES['sense']} (in the elementary rotation)",
                 lambda p: _derivative(p, sense=-1)),
         Mistake("order", _ORDER_MESSAGE, _derivative_order),
+        Mistake("transposed", "this is the derivative of the transposed matrix (∂Rᵀ/∂t for "
+                "∂R/∂t, or ∂R/∂t for Wolf's ∂M/∂t = ∂Rᵀ/∂t): check which matrix the task asks "
+                "for", lambda p: _derivative(p, transposed=True)),
     ))
 
 
