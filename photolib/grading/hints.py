@@ -79,7 +79,8 @@ _UNIT_WORDS = {
 }
 
 #: the unit of an answer as statements name it ("… in mm", "(in µm)")
-_UNIT_IN = re.compile(r"\bin (µm|μm|um|mm|m|metres|millimetres|micrometres)(?![\w²³])")
+_UNIT_IN = re.compile(r"\bin \**(µm|μm|um|mm|m|metres|millimetres|micrometres)\**(?![\w²³])"
+                      r"|\((µm|μm|mm|m)\)")
 _UNIT_ALIASES = {"μm": "µm", "um": "µm", "micrometres": "µm", "millimetres": "mm",
                  "metres": "m"}
 
@@ -96,7 +97,7 @@ def answer_unit(exercise) -> str:
     unit = getattr(exercise, "unit", "")
     if unit:
         return _UNIT_ALIASES.get(unit, unit)
-    found = _UNIT_IN.findall(exercise.statement)
+    found = [a or b for a, b in _UNIT_IN.findall(exercise.statement)]
     return _UNIT_ALIASES.get(found[-1], found[-1]) if found else ""
 
 

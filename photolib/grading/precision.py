@@ -35,6 +35,9 @@ __all__ = ["Precision", "derived", "for_variant", "stated_in_words"]
 #: kinds whose answers are numbers that can be rounded
 ROUNDED_KINDS = ("number", "array", "rotation")
 
+#: the coarsest step a rotation matrix's entries may be rounded to (orthonormality 1e-6)
+ROTATION_STEP = 1e-7
+
 #: share of the tolerance the rounding of a stated precision may use
 MARGIN = 0.8
 
@@ -158,6 +161,9 @@ def derived(exercise, params) -> Precision | None:
     if not smallest > 0:
         return None
     step = 10.0 ** math.floor(math.log10(2 * MARGIN * smallest))
+    if exercise.kind == "rotation":
+        # the judge also asks |RᵀR − I| ≤ 1e-6 of a rotation: entries rounded to 1e-7 keep it
+        step = min(step, ROTATION_STEP)
     unit = answer_unit_words(exercise)
     if step < 1e-6 and exercise.kind == "number" and float(ref) != 0:
         # a step this fine reads better as significant digits
