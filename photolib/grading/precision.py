@@ -66,8 +66,9 @@ class Precision:
         if self.kind == "whole":
             return "exactly (a whole number)"
         if self.value < 1e-3:
+            shown = {"°": "degrees", "%": "percent"}.get(self.unit, self.unit)
             return f"to {-round(math.log10(self.value))} decimals" + (
-                f" (in {self.unit})" if self.unit else "")
+                f" (in {shown})" if shown else "")
         if self.value >= 1:
             return f"to the nearest {self.value:.0f}" + (f" {self.unit}" if self.unit else "")
         step = _step_text(self.value)

@@ -104,10 +104,7 @@ def test_exercise_statements_keep_numbers_on_one_line(lab_url, lab_log, hidpi_pa
     statements.first.scroll_into_view_if_needed()
     page.screenshot(path=str(screenshots / f"exercise-{exercise}.png"), full_page=False)
     split = page.evaluate(_SPLIT_NUMBERS)
-    if split:
-        pytest.xfail(f"task statements are being rewritten (issue 14 point 2): numbers split "
-                     f"across lines: {split[:8]}")
-    assert split == []
+    assert split == [], f"{exercise}: numbers split across lines: {split[:8]}"
 
 
 def test_split_number_check_finds_a_split_number(lab_url, hidpi_page):
