@@ -253,6 +253,11 @@ def _times(reference, factor):
     return wrong
 
 
+def _hint(tag, message, wrong):
+    """A near-miss rule that gives its hint but does not narrow a ``PRINTED`` tolerance."""
+    return Mistake(tag, message, wrong, shapes_tolerance=False)
+
+
 def generic_mistakes(exercise) -> tuple:
     """The mistakes tried for every exercise of a kind, after the exercise's own.
 
@@ -267,19 +272,19 @@ def generic_mistakes(exercise) -> tuple:
         units = tuple(Mistake("units-mm-m" if abs(f) in (1e3, 1e-3) else "units-um-m",
                               unit_message(exercise, f), _times(ref, f))
                       for f in (1e3, 1e-3))
-        more = (Mistake("units-um-m", unit_message(exercise, 1e6), _times(ref, 1e6)),
-                Mistake("units-um-m", unit_message(exercise, 1e-6), _times(ref, 1e-6)),
-                Mistake("degrees", "it looks as if the answer is in degrees where radians "
-                        "are asked (convert with numpy.radians)", _times(ref, 180 / math.pi)),
-                Mistake("radians", MESSAGES["radians"], _times(ref, math.pi / 180)),
-                Mistake("factor-2", MESSAGES["factor-2"], _apart(ref, _times(ref, 2.0))),
-                Mistake("factor-2", MESSAGES["factor-2"], _apart(ref, _times(ref, 0.5))))
-        matrix = ((Mistake("transposed", MESSAGES["transposed"],
-                           _apart(ref, _square_transposed(ref))),)
+        more = (_hint("units-um-m", unit_message(exercise, 1e6), _times(ref, 1e6)),
+                _hint("units-um-m", unit_message(exercise, 1e-6), _times(ref, 1e-6)),
+                _hint("degrees", "it looks as if the answer is in degrees where radians "
+                      "are asked (convert with numpy.radians)", _times(ref, 180 / math.pi)),
+                _hint("radians", MESSAGES["radians"], _times(ref, math.pi / 180)),
+                _hint("factor-2", MESSAGES["factor-2"], _apart(ref, _times(ref, 2.0))),
+                _hint("factor-2", MESSAGES["factor-2"], _apart(ref, _times(ref, 0.5))))
+        matrix = ((_hint("transposed", MESSAGES["transposed"],
+                         _apart(ref, _square_transposed(ref))),)
                   if exercise.kind == "array" else ())
-        reciprocal = Mistake("reciprocal" if exercise.kind == "number" else "inverse",
-                             MESSAGES["reciprocal" if exercise.kind == "number" else "inverse"],
-                             _apart(ref, _reciprocal(ref)))
+        reciprocal = _hint("reciprocal" if exercise.kind == "number" else "inverse",
+                           MESSAGES["reciprocal" if exercise.kind == "number" else "inverse"],
+                           _apart(ref, _reciprocal(ref)))
         return (units + (scaled_result(ref, -1.0, "sign", MESSAGES["sign"]),)
                 + more + matrix + (reciprocal,))
     if exercise.kind == "rotation":
@@ -294,9 +299,8 @@ def generic_mistakes(exercise) -> tuple:
                 Mistake("units-mm-m", unit_message(exercise, 1e-3),
                         _scaled_function(ref, 1e-3)),
                 Mistake("sign", MESSAGES["sign"], _negated_function(ref)),
-                Mistake("units-um-m", unit_message(exercise, 1e6), _scaled_function(ref, 1e6)),
-                Mistake("units-um-m", unit_message(exercise, 1e-6),
-                        _scaled_function(ref, 1e-6)),
-                Mistake("factor-2", MESSAGES["factor-2"], _scaled_function(ref, 2.0)),
-                Mistake("factor-2", MESSAGES["factor-2"], _scaled_function(ref, 0.5)))
+                _hint("units-um-m", unit_message(exercise, 1e6), _scaled_function(ref, 1e6)),
+                _hint("units-um-m", unit_message(exercise, 1e-6), _scaled_function(ref, 1e-6)),
+                _hint("factor-2", MESSAGES["factor-2"], _scaled_function(ref, 2.0)),
+                _hint("factor-2", MESSAGES["factor-2"], _scaled_function(ref, 0.5)))
     return ()

@@ -271,7 +271,9 @@ PRINTED_MARGIN = 1.1
 
 
 def _all_mistakes(exercise):
-    return tuple(exercise.mistakes) + generic_mistakes(exercise)
+    """The mistakes a ``PRINTED`` tolerance is kept off (hint-only ones left out)."""
+    return tuple(m for m in tuple(exercise.mistakes) + generic_mistakes(exercise)
+                 if m.shapes_tolerance)
 
 
 def printed_tolerance(exercise, share=0.4):

@@ -75,11 +75,17 @@ class Mistake:
     wrong : callable
         ``wrong(params)`` returns the value (for function exercises: the function) that this
         mistake produces. It may return ``None`` when the mistake does not apply.
+    shapes_tolerance : bool
+        Whether a ``PRINTED`` tolerance is kept off this mistake's value (the default). The
+        near-miss hints added for issue 14 (a factor 2, the reciprocal, degrees for radians)
+        are hints only: they never narrow the tolerance, so an answer within the rounding of
+        the printed inputs stays correct.
     """
 
     tag: str
     message: str
     wrong: Callable[[Params], Any]
+    shapes_tolerance: bool = True
 
 
 @dataclass(frozen=True)
