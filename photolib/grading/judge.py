@@ -12,6 +12,7 @@
 
 from __future__ import annotations
 
+import math
 import re
 import string
 from collections import OrderedDict
@@ -20,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from photolib.grading.encode import NONE, NOT_ANSWERED, Raised, Unsupported, unanswered
-from photolib.grading.hints import generic_mistakes
+from photolib.grading.hints import MESSAGES, generic_mistakes
 
 __all__ = ["FunctionOutputs", "Judgement", "compare", "judge", "printed_half_units",
            "printed_tolerance", "propagated_atol", "rounding_tolerance"]
@@ -270,7 +271,9 @@ PRINTED_MARGIN = 1.1
 
 
 def _all_mistakes(exercise):
-    return tuple(exercise.mistakes) + generic_mistakes(exercise)
+    """The mistakes a ``PRINTED`` tolerance is kept off (hint-only ones left out)."""
+    return tuple(m for m in tuple(exercise.mistakes) + generic_mistakes(exercise)
+                 if m.shapes_tolerance)
 
 
 def printed_tolerance(exercise, share=0.4):
@@ -707,6 +710,9 @@ def judge(exercise, params, answer, outputs_of=None) -> Judgement:
     rounded = _rounded_mistake(exercise, answer, expected, params, tried, tolerances)
     if rounded is not None:
         return verdict("wrong", f"not correct: {rounded.message}", mistake=rounded.tag)
+    near = _near_miss(exercise, answer, expected, params)
+    if near is not None:
+        return verdict("wrong", f"not correct: {near[1]}", mistake=near[0])
     return verdict("wrong", "not correct" + (f": {reason}" if reason else ""),
                    mistake=_reason_tag(reason))
 
@@ -780,6 +786,109 @@ def _rounded_mistake(exercise, answer, expected, params, tried, tolerances):
         except Exception:  # noqa: BLE001 - a value that cannot be compared gives no hint
             continue
     return next(iter(found.values())) if len(found) == 1 else None
+
+
+#: the roundings (significant digits, or decimals) an answer is compared with as a near miss
+NEAR_DIGITS = range(1, 11)
+
+
+def _rounded_digits(pairs):
+    """The fewest significant digits to which some entry of the answers is the reference
+    rounded or cut off (every entry being such a rounding, to any digits or decimals), or None.
+
+    >>> _rounded_digits([(np.array(1.23), np.array(1.23456))])
+    3
+    >>> _rounded_digits([(np.array(1.2469), np.array(1.23456))]) is None
+    True
+    """
+    fewest = None
+    for given, want in pairs:
+        for g, e in zip(np.ravel(given), np.ravel(want)):
+            if g == e or e == 0:
+                continue
+            exponent = math.floor(math.log10(abs(e)))
+            found = None
+            for k in NEAR_DIGITS:
+                step = 10.0 ** (exponent - k + 1)
+                for r in (round(e / step) * step, math.trunc(e / step) * step):
+                    if abs(g - r) <= 1e-9 * abs(e) + 1e-300:
+                        found = k
+                        break
+                if found:
+                    break
+            if found is None:
+                return None
+            fewest = found if fewest is None else min(fewest, found)
+    return fewest
+
+
+def _given_values(exercise, answer, expected):
+    """``[(given, expected)]`` float arrays of a number, array or function answer, or []."""
+    if exercise.kind == "number":
+        given = _as_number(answer)
+        return [(np.asarray(given, float), np.asarray(expected, float))] \
+            if isinstance(given, float) else []
+    if exercise.kind in ("array", "rotation"):
+        given = _numeric_matrix(answer, np.ndim(expected))
+        return [(given, np.asarray(expected, float))] if isinstance(given, np.ndarray) else []
+    if exercise.kind == "function" and isinstance(answer, FunctionOutputs) and not answer.error:
+        pairs = []
+        for got, want in zip(answer.outputs, expected):
+            if isinstance(want, Raised) or isinstance(got, Raised):
+                continue
+            got = _numeric_matrix(_as_number(got), np.ndim(want))
+            if not isinstance(got, (float, np.ndarray)):
+                return []
+            pairs.append((np.asarray(got, float), np.asarray(want, float)))
+        return pairs
+    return []
+
+
+def _near_miss(exercise, answer, expected, params):
+    """``(tag, message)`` of a near miss no mistake rule explains, or None.
+
+    * ``"unnormalised"``: the answer (or each output) is a vector parallel to a unit vector
+      expected, with another length;
+    * ``"digits"``: every entry agrees with the reference to :data:`NEAR_DIGITS` significant
+      digits of the largest entry, but not within the tolerance: the message says how many
+      digits agree and the precision the task asks for
+      (:func:`photolib.grading.precision.for_variant`).
+    """
+    try:
+        pairs = _given_values(exercise, answer, expected)
+    except Exception:  # noqa: BLE001 - an answer that cannot be read gives no hint
+        return None
+    pairs = [(g, e) for g, e in pairs if g.shape == e.shape and np.all(np.isfinite(g))
+             and e.size and np.all(np.isfinite(e))]
+    if not pairs:
+        return None
+
+    def unnormalised(g, e):
+        ne, ng = np.linalg.norm(e), np.linalg.norm(g)
+        return (e.ndim == 1 and e.size > 1 and abs(ne - 1.0) < 1e-6 and ng > 0
+                and abs(ng - 1.0) > 1e-3 and np.allclose(g / ng, e, rtol=0, atol=1e-3))
+
+    if all(unnormalised(g, e) for g, e in pairs):
+        return "unnormalised", MESSAGES["unnormalised"]
+    agree = _rounded_digits(pairs)
+    if agree is None:
+        return None
+    from photolib.grading.precision import for_variant
+    try:
+        asked, _ = for_variant(exercise, params, _filled(exercise, params))
+    except Exception:  # noqa: BLE001 - no precision to name: the hint without it
+        asked = None
+    wanted = f"; give it {asked.text()}" if asked is not None and asked.value else ""
+    return "digits", (f"close: your answer is the correct value rounded to {agree} "
+                      f"significant digit{'s' if agree > 1 else ''}, which is not the "
+                      f"precision asked{wanted}")
+
+
+def _filled(exercise, params) -> str:
+    try:
+        return exercise.statement.format(**params)
+    except (KeyError, IndexError, ValueError):
+        return exercise.statement
 
 
 def _closer_to_zero(exercise, answer, wrong, params, tolerances=None) -> bool:

@@ -14,6 +14,8 @@ import re
 import string
 import sys
 
+import numpy as np
+
 from photolib.grading.encode import (NOT_ANSWERED, Raised, Unsupported, decode_value,
                                       decoded_or_unsupported, encode_value)
 from photolib.grading.exercises import exercise as _exercise
@@ -139,10 +141,57 @@ def task(exercise_id: str) -> Params | NoParameters:
         print(f"✋ {ex.id}: {NO_STUDENT_ID}")
         return NoParameters(ex.id)
     params = parameters_for(ex, sid)
-    unit = "point" if ex.points == 1 else "points"
-    print(f"{ex.id} ({ex.points:g} {unit}) {ex.title}\n{ex.statement.format(**params)}\n"
-          f"{_where_line(ex, params)}")
+    _show_statement(ex, params)
     return IssuedParams(params, ex.id, sid)
+
+
+def precision_line(ex, params) -> str:
+    """The line stating the precision asked, or ``""`` where the statement states it in
+    words (or there is no number to round: a formula, an option)."""
+    from photolib.grading.precision import for_variant
+    text = ex.statement.format(**params)
+    precision, in_words = for_variant(ex, params, text)
+    if in_words:
+        return ""
+    if ex.kind == "function":
+        rtol, atol = ex.tolerances(params)
+        if rtol > 0:
+            digits = max(1, round(-np.log10(rtol)))
+            within = f"to about {digits} significant digits"
+        else:
+            within = f"to within {float(np.min(atol)):.3g} (absolute)"
+        return (f"Your function's results are compared with the reference {within}: return "
+                f"them unrounded.")
+    if precision is None or not precision.value:
+        return ""
+    if precision.kind == "whole":
+        return f"Give {ex.answer} as a whole number."
+    return f"Give {ex.answer} {precision.text()} (or more precisely)."
+
+
+def statement_texts(ex, params) -> tuple[str, str]:
+    """``(markdown, plain)``: what :func:`task` shows in a notebook and elsewhere."""
+    from photolib.grading.statement import render
+    unit = "point" if ex.points == 1 else "points"
+    where = _where_line(ex, params)
+    precision = precision_line(ex, params)
+    plain = (f"{ex.id} ({ex.points:g} {unit}) {ex.title}\n{ex.statement.format(**params)}\n"
+             + (f"{precision}\n" if precision else "") + where)
+    markdown = (f"**{ex.title}** &nbsp;({ex.points:g} {unit}, `{ex.id}`)\n\n"
+                f"{render(ex.statement, params)}\n\n"
+                + (f"{precision}  \n" if precision else "")
+                + re.sub(r"\b(p_\w+(?:\.\w+)?)", r"`\1`", where))
+    return markdown, plain
+
+
+def _show_statement(ex, params) -> None:
+    """Display the statement as Markdown in IPython (plain text as the fallback), else print."""
+    markdown, plain = statement_texts(ex, params)
+    if _shell() is None:
+        print(plain)
+        return
+    from IPython.display import display
+    display({"text/markdown": markdown, "text/plain": plain}, raw=True)
 
 
 def function_outputs(func, cases) -> FunctionOutputs:

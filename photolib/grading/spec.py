@@ -75,11 +75,17 @@ class Mistake:
     wrong : callable
         ``wrong(params)`` returns the value (for function exercises: the function) that this
         mistake produces. It may return ``None`` when the mistake does not apply.
+    shapes_tolerance : bool
+        Whether a ``PRINTED`` tolerance is kept off this mistake's value (the default). The
+        near-miss hints added for issue 14 (a factor 2, the reciprocal, degrees for radians)
+        are hints only: they never narrow the tolerance, so an answer within the rounding of
+        the printed inputs stays correct.
     """
 
     tag: str
     message: str
     wrong: Callable[[Params], Any]
+    shapes_tolerance: bool = True
 
 
 @dataclass(frozen=True)
@@ -148,6 +154,14 @@ class Exercise:
         of the earlier steps it builds on, so that a wrong first step does not hide a right
         method. Empty for a single-step exercise. :func:`photolib.grading.exercises.chapters`
         checks that a scenario's steps are in one chapter and titled "Step k of n".
+    precision : str
+        The precision asked, in the words of a statement (``"to 0.01 mm"``, ``"to 3
+        significant digits"``), where the one derived from the tolerance
+        (:func:`photolib.grading.precision.derived`) does not fit. A statement that states its
+        precision in words needs neither: :func:`~photolib.grading.task` then adds no line.
+    unit : str
+        The answer's length unit (``"mm"``, ``"µm"``, ``"m"``) where the statement does not
+        name it as "in mm": the unit hints speak of it (µm for mm where the answer is in mm).
     few_variants : str
         Why this exercise cannot draw :data:`MIN_VARIANTS` distinct variants (a multiple
         choice has as many correct answers as options); empty when it does. The tests count
@@ -174,6 +188,8 @@ class Exercise:
     exact: tuple = ()
     scenario: str = ""
     few_variants: str = ""
+    precision: str = ""
+    unit: str = ""
 
     def __post_init__(self):
         if not _ID.match(self.id):

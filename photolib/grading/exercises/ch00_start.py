@@ -35,7 +35,7 @@ image_scale = Exercise(
     params_name="p_scale",
     id="demo.image-scale", points=2, title="Image scale number (Bildmaßstabszahl)",
     kind="number", answer="scale_number",
-    statement="{camera} with camera constant c = {c_mm} mm {distance} h = {h_m} m above a "
+    statement="{camera} with camera constant $c = {c_mm}$ mm {distance} $h = {h_m}$ m above a "
               "flat object. Compute the image scale number m_b = h / c (dimensionless).",
     # m_b may be rounded to a whole number: at least 0.5
     parameters=_scale_params, reference=_scale, tolerance=PRINTED, atol=0.5,

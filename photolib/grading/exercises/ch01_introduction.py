@@ -126,8 +126,8 @@ scale_number = Exercise(
     params_name="p_scale",
     id="int.scale-number", points=2, kind="number", answer="m_b",
     title="Image scale number / Bildmaßstabszahl",
-    statement="An aerial camera with the camera constant c = {c_mm:.2f} mm takes a vertical image "
-              "from H = {h_m} m above flat ground. The image scale is 1 : m_b. What is the "
+    statement="An aerial camera with the camera constant $c = {c_mm:.2f}$ mm takes a vertical image "
+              "from $H = {h_m}$ m above flat ground. The image scale is 1 : m_b. What is the "
               "image scale number m_b?",
     parameters=_scale_params, reference=_scale_number, tolerance=PRINTED, rtol=1e-4, atol=0.0,
     mistakes=(
@@ -186,9 +186,9 @@ images = Exercise(
     id="int.images", points=3, kind="number", answer="n_images",
     title="Planning a photo flight / Bildflugplanung",
     statement="A block of {length_km} km (along the flight) × {width_km} km is flown at "
-              "H = {h_m} m with a camera of c = {c_mm} mm and {n_along} × {n_across} pixels "
+              "$H = {h_m}$ m with a camera of $c = {c_mm}$ mm and {n_along} × {n_across} pixels "
               "(along × across the flight) of {pixel_um} µm; forward overlap p = "
-              "{overlap_pct} %, side lap q = {sidelap_pct} %. With the image's ground size S, "
+              "{overlap_pct} %, side lap $q = {sidelap_pct}$ %. With the image's ground size S, "
               "base B = S_along·(1 − p), strip spacing A = S_across·(1 − q): each strip has "
               "⌈(L − p·S_along)/B⌉ + 2 images (at least 2) and there are ⌈(W − S_across)/A⌉ + 1 "
               "strips (at least 1). "
@@ -232,7 +232,7 @@ ground_size = Exercise(
     id="int.ground-size", points=2, kind="function", answer="ground_size",
     title="Ground coverage / Bodenabdeckung",
     statement="A camera has a square image format of {format_mm} mm × {format_mm} mm and "
-              "c = {c_mm} mm. Write ground_size(H) returning the side length in **m** of the "
+              "$c = {c_mm}$ mm. Write ground_size(H) returning the side length in **m** of the "
               "square ground area of a vertical image taken H m above flat ground.",
     parameters=_ground_params, reference=_ground_size(), tolerance=PRINTED, cases=_ground_cases,
     rtol=1e-6, atol=0.0,   # float32 (2e-7); the old 1e-9 rejected it

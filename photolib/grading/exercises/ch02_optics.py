@@ -50,8 +50,8 @@ image_distance = Exercise(
     params_name="p_distance",
     id="opt.image-distance", points=2, kind="number", answer="a_image",
     title="Image distance / Bildweite",
-    statement="A thin lens of focal length f = {f_mm} mm is focused on an object at the "
-              "distance a = {a_m} m in front of it. How far behind the lens is the sharp "
+    statement="A thin lens of focal length $f = {f_mm}$ mm is focused on an object at the "
+              "distance $a = {a_m}$ m in front of it. How far behind the lens is the sharp "
               "image (image distance a′, in mm)?",
     parameters=_image_params, reference=_image_distance, tolerance=PRINTED, rtol=1e-5, atol=0.0,
     mistakes=(
@@ -97,8 +97,8 @@ depth_of_field = Exercise(
     params_name="p_dof",
     id="opt.depth-of-field", points=3, kind="array", answer="dof",
     title="Depth of field / Schärfentiefe",
-    statement="A camera with a lens of f = {f_mm} mm at f-number k = {k} is focused on "
-              "a = {a_m} m. The permissible circle of confusion is u′ = {u_um} µm. Give the "
+    statement="A camera with a lens of $f = {f_mm}$ mm at f-number $k = {k}$ is focused on "
+              "$a = {a_m}$ m. The permissible circle of confusion is $u' = {u_um}$ µm. Give the "
               "near limit a_v, the far limit a_h and the depth of field t = a_h − a_v, all in "
               "m, as a NumPy array (a_v, a_h, t) of shape (3,).",
     parameters=_dof_params, reference=_dof, tolerance=PRINTED, rtol=1e-4, atol=1e-6,
@@ -130,7 +130,7 @@ airy_radius = Exercise(
     params_name="p_airy",
     id="opt.airy-radius", points=2, kind="number", answer="r_airy",
     title="Airy disk / Beugungsscheibchen",
-    statement="A diffraction-limited lens works at f-number k = {k} in light of wavelength "
+    statement="A diffraction-limited lens works at f-number $k = {k}$ in light of wavelength "
               "λ = {wavelength_nm} nm. What is the radius of the Airy disk (the first dark "
               "ring of the diffraction pattern) in the image, in µm?",
     parameters=_airy_params, reference=_airy, tolerance=PRINTED, rtol=1e-3, atol=0.0,
@@ -168,7 +168,7 @@ snell = Exercise(
     params_name="p_snell",
     id="opt.snell", points=2, kind="number", answer="beta_deg",
     title="Refraction / Lichtbrechung (Snell)",
-    statement="A ray passes from {medium} (n1 = {n1:.3f}) into glass (n2 = {n2:.3f}) at the angle of "
+    statement="A ray passes from {medium} ($n_1 = {n1:.3f}$) into glass ($n_2 = {n2:.3f}$) at the angle of "
               "incidence α = {alpha_deg:.1f}° to the normal. What is the angle of refraction β "
               "in degrees?",
     parameters=_snell_params, reference=_snell, tolerance=PRINTED, rtol=0.0, atol=1e-4,
@@ -209,7 +209,7 @@ vignetting_corner = Exercise(
     params_name="p_vignetting",
     id="opt.vignetting-corner", points=2, kind="number", answer="E_corner",
     title="Natural vignetting at the corner / Lichtabfall in der Bildecke",
-    statement="A camera with the format {format} and camera constant c = {c_mm:.2f} mm has an "
+    statement="A camera with the format {format} and camera constant $c = {c_mm:.2f}$ mm has an "
               "ideal lens with only natural vignetting. What fraction E(τ)/E(0) of the "
               "irradiance in the image centre reaches a corner of the format?",
     parameters=_corner_params, reference=_corner, tolerance=PRINTED, rtol=1e-5, atol=0.0,
@@ -317,7 +317,7 @@ stop_down = Exercise(
     id="opt.stop-down",
     few_variants="a multiple choice of four options: four correct answers at most", points=1, kind="choice", answer="choice_stop",
     title="Stopping down / Abblenden",
-    statement="A photographer stops a lens down from f-number k = {k} to k = {k2} (twice "
+    statement="A photographer stops a lens down from f-number $k = {k}$ to $k = {k2}$ (twice "
               "the f-number) and keeps the focus. Which is right? {options}. Set the answer "
               "to the letter.",
     parameters=_choice_params, reference=_stop_letter(0),

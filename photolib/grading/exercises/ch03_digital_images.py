@@ -42,7 +42,7 @@ gsd = Exercise(
     id="dig.gsd", points=2, kind="number", answer="gsd_cm",
     title="Ground sampling distance / Bodenpixelgröße",
     statement="A digital aerial camera has square pixels of {pixel_um} µm and the camera "
-              "constant c = {c_mm} mm. It takes a vertical image from H = {h_m} m above flat "
+              "constant $c = {c_mm}$ mm. It takes a vertical image from $H = {h_m}$ m above flat "
               "ground. What is the ground sampling distance (GSD) in **cm**?",
     # a pixel pitch is a design value, exact as printed (the sensors of _PIXELS_UM)
     parameters=_camera, reference=_gsd_cm, tolerance=PRINTED, exact=("pixel_um",),
@@ -154,8 +154,8 @@ snr_db = Exercise(
     params_name="p_snr",
     id="dig.snr-db", points=3, kind="number", answer="snr_db",
     title="Signal-to-noise ratio in dB / Signal-Rausch-Verhältnis",
-    statement="A pixel collects a mean signal of S = {signal} e⁻ (photon shot noise: Poisson). "
-              "The read noise is {read_noise:.2f} e⁻, the gain K = {gain:.2f} e⁻/DN (quantisation "
+    statement="A pixel collects a mean signal of $S = {signal}$ e⁻ (photon shot noise: Poisson). "
+              "The read noise is {read_noise:.2f} e⁻, the gain $K = {gain:.2f}$ e⁻/DN (quantisation "
               "noise K²/12 in e⁻²), the dark signal negligible. What is the SNR in **dB** "
               "(at least four decimals)?",
     # σ_r and K printed to 0.01 (σ_r is drawn to 0.1: "4.10"): their rounding moves the SNR
@@ -232,7 +232,7 @@ gsd_function = Exercise(
     params_name="p_gsd_fn",
     id="dig.gsd-function", points=3, kind="function", answer="gsd_of_height",
     title="GSD as a function of the flying height",
-    statement="For a camera with {pixel_um} µm pixels and c = {c_mm} mm write gsd_of_height(H) "
+    statement="For a camera with {pixel_um} µm pixels and $c = {c_mm}$ mm write gsd_of_height(H) "
               "that returns the ground sampling distance in **cm** of a vertical image taken H m "
               "above flat ground. It is tested on heights you do not see.",
     parameters=_camera, reference=_gsd_function(), cases=_height_cases, tolerance=PRINTED,

@@ -74,10 +74,11 @@ opk_matrix = Exercise(
     params_name="p_opk",
     id="rot.opk-matrix", points=3, kind="rotation", answer="R",
     title="Rotation matrix from an aerial attitude (Drehmatrix aus der Fluglage)",
-    statement="An aerial image was taken with roll ω = {omega_gon} gon (Querneigung), pitch "
-              "φ = {phi_gon} gon (Längsneigung) and yaw κ = {kappa_gon} gon (Kantung); "
-              "400 gon = 360°. Build the rotation matrix (Drehmatrix) R = R_ω·R_φ·R_κ of the "
-              "course, which turns camera vectors into the object frame, as a 3×3 NumPy array.",
+    statement=r"An aerial image was taken with roll $\omega = {omega_gon}$ gon (Querneigung), "
+              r"pitch $\varphi = {phi_gon}$ gon (Längsneigung) and yaw $\kappa = {kappa_gon}$ "
+              r"gon (Kantung); 400 gon = 360°. Build the rotation matrix (Drehmatrix) "
+              r"$R = R_\omega R_\varphi R_\kappa$ of the course, which turns camera vectors "
+              r"into the object frame, as a 3×3 NumPy array.",
     parameters=_opk_params, reference=_opk_reference, tolerance=PRINTED, atol=1e-6,
     mistakes=(
         scaled_parameters(_opk_reference, _GON, 200.0 / math.pi, "gon"),
@@ -130,10 +131,11 @@ angles_from_matrix = Exercise(
     params_name="p_angles",
     id="rot.angles-from-matrix", points=3, kind="array", answer="angles_deg",
     title="Angles from a rotation matrix (Winkel aus der Drehmatrix)",
-    statement="A close-range camera has the rotation matrix (Drehmatrix, R = R_ω·R_φ·R_κ)\n"
-              "R = {matrix}\n(also as the list p_angles.R). Recover the angles and give them as the "
-              "NumPy array [ω, φ, κ] in degrees, with φ in [−90°, 90°] and ω, κ in "
-              "(−180°, 180°].",
+    statement=r"A close-range camera has the rotation matrix (Drehmatrix, "
+              r"$R = R_\omega R_\varphi R_\kappa$)" "\n"
+              "R = {matrix}\n(also as the list p_angles.R). Recover the angles and give them as "
+              r"the NumPy array $[\omega, \varphi, \kappa]$ in degrees, with "
+              r"$\varphi \in [-90°, 90°]$ and $\omega, \kappa \in (-180°, 180°]$.",
     parameters=_angles_params, reference=_angles_reference, rtol=0.0, atol=1e-4,
     mistakes=(
         Mistake("degrees", "these are radians; the task asks for degrees (numpy.degrees)",
@@ -183,13 +185,13 @@ def _symbolic_rotation(order: str):
     return sp.ImmutableMatrix(dr.rotation_pok() if order == "pok" else dr.rotation_opk())
 
 
-def _derivative(p, order="opk", sense=1):
+def _derivative(p, order="opk", sense=1, transposed=False):
     from photolib.derive import rotation as dr
     t = {"omega": dr.omega, "phi": dr.phi, "kappa": dr.kappa}[p["angle"]]
     R = _symbolic_rotation(order).as_mutable()
     if sense < 0:
         R = R.xreplace({t: -t})
-    if p["matrix"] == "M":
+    if (p["matrix"] == "M") != transposed:
         R = R.T
     import sympy as sp
     return R.diff(t) * sp.Matrix(p["v"])
@@ -214,6 +216,9 @@ matrix_derivative = Exercise(
         Mistake("sense", f"{hints.MESSAGES['sense']} (in the elementary rotation)",
                 lambda p: _derivative(p, sense=-1)),
         Mistake("order", _ORDER_MESSAGE, _derivative_order),
+        Mistake("transposed", "this is the derivative of the transposed matrix (∂Rᵀ/∂t for "
+                "∂R/∂t, or ∂R/∂t for Wolf's ∂M/∂t = ∂Rᵀ/∂t): check which matrix the task asks "
+                "for", lambda p: _derivative(p, transposed=True)),
     ))
 
 
@@ -287,11 +292,12 @@ ray_direction = Exercise(
     params_name="p_ray",
     id="rot.ray-direction", points=3, kind="function", answer="ray_direction",
     title="Image ray in the object frame (Bildstrahl im Objektsystem)",
-    statement="Your camera is {camera} with camera constant c = {c_mm:.3f} mm (Kamerakonstante); "
+    statement="Your camera is {camera} with camera constant $c = {c_mm:.3f}$ mm (Kamerakonstante); "
               "the principal point is the origin. Write ray_direction(x, y, omega, phi, kappa) "
               "returning the unit vector, in the object frame, of the ray from the projection "
               "centre through the image point (x', y') = (x, y) in mm, for angles ω, φ, κ in "
-              "{unit}. Use the image vector x* = (x', y', −c) and R = R_ω·R_φ·R_κ. It is tested "
+              "{unit}. Use the image vector $x^* = (x', y', -c)$ and $R = R_\\omega R_\\varphi R_\\kappa$. "
+              "It is tested "
               "on image points and attitudes you do not see.",
     # the cases are exact numbers and the result a unit vector: 1e-6 accepts float32 and
     # OpenCV (float32 eps ≈ 6e-8) while every mistake below moves some entry by far more

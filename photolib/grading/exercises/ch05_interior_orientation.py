@@ -72,7 +72,7 @@ field_angle = Exercise(
     id="io.field-angle", points=2, kind="number", answer="tau_deg",
     title="Half format angle (halber Formatwinkel / Bildwinkel)",
     statement="A close-range camera has a sensor of {W} × {H} pixels of {pixel_um:.2f} µm "
-              "(Pixelgröße) and the camera constant c = {c_mm:.3f} mm (Kamerakonstante); the "
+              "(Pixelgröße) and the camera constant $c = {c_mm:.3f}$ mm (Kamerakonstante); the "
               "principal point (Bildhauptpunkt) is at the centre of the format. Compute the "
               "angle τ between the optical axis and the ray to a corner of the image format, "
               "i.e. half the format angle over the diagonal (halber Formatwinkel or "
@@ -193,11 +193,11 @@ image_vector = Exercise(
     params_name="p_vector",
     id="io.image-vector", points=3, kind="array", answer="x_star",
     title="Image vector of a measured point (Bildvektor)",
-    statement="A camera has the camera constant c = {c_mm:.4f} mm (Kamerakonstante), the "
-              "principal point (Bildhauptpunkt) x'0 = {x0:.4f} mm, y'0 = {y0:.4f} mm and the "
+    statement="A camera has the camera constant $c = {c_mm:.4f}$ mm (Kamerakonstante), the "
+              "principal point (Bildhauptpunkt) $x'_0 = {x0:.4f}$ mm, $y'_0 = {y0:.4f}$ mm and the "
               "distortion "
-              "(Verzeichnung) A1 = {A1:.3e} mm⁻², A2 = {A2:.3e} mm⁻⁴ (r0 = 0), B1 = {B1:.3e} mm⁻¹, "
-              "B2 = {B2:.3e} mm⁻¹. A point is measured at x' = {x:.4f} mm, y' = {y:.4f} mm. Give its "
+              "(Verzeichnung) $A_1 = {A1:.3e}$ mm⁻², $A_2 = {A2:.3e}$ mm⁻⁴ (r0 = 0), $B_1 = {B1:.3e}$ mm⁻¹, "
+              "$B_2 = {B2:.3e}$ mm⁻¹. A point is measured at $x' = {x:.4f}$ mm, $y' = {y:.4f}$ mm. Give its "
               "image vector x* = (x' − x'0 − Δx', y' − y'0 − Δy', −c) in mm as a NumPy array.",
     # relative 1e-6 accepts float32 (eps ≈ 6e-8) and a result printed to 1e-6 mm, plus the
     # rounding of the inputs, printed to 0.1 µm so that it stays far inside the
@@ -257,8 +257,8 @@ measured_position = Exercise(
     params_name="p_lens",
     id="io.measured-position", points=3, kind="function", answer="measured_position",
     title="Where is an ideal point measured? (Iteration der Verzeichnung)",
-    statement="Your lens has the balanced radial distortion (Verzeichnung) A1 = {A1:.3e} mm⁻², "
-              "A2 = {A2:.3e} mm⁻⁴, r0 = {r0:.4f} mm. Write measured_position(x, y) that takes ideal "
+    statement="Your lens has the balanced radial distortion (Verzeichnung) $A_1 = {A1:.3e}$ mm⁻², "
+              "$A_2 = {A2:.3e}$ mm⁻⁴, $r_0 = {r0:.4f}$ mm. Write measured_position(x, y) that takes ideal "
               "image coordinates reduced to the principal point (x, y in mm) and returns where "
               "this point is measured, as a NumPy array (x_m, y_m) in mm, to 1e-6 mm. "
               "Remember that Δ is evaluated at the measured point. It is tested on points you "
@@ -328,7 +328,7 @@ plumb_line_exercise = Exercise(
     id="io.plumb-line", points=3, kind="array", answer="plumb",
     title="Plumb-line calibration (Kalibrierung mit Lotlinien, Plumblines)",
     statement="Eight lines that are straight in object space were imaged by a camera with "
-              "c = {c_mm} mm (Kamerakonstante). Their measured points, in mm and reduced to the "
+              "$c = {c_mm}$ mm (Kamerakonstante). Their measured points, in mm and reduced to the "
               "principal point (Bildhauptpunkt), are in p_plumb.lines: a list of 8 lines, each a "
               "list of 13 points (x′, y′); the first point is {first}. The coordinates have "
               "a noise of about {noise_um} µm. Estimate the radial distortion coefficient A1 "

@@ -244,6 +244,7 @@ normal_contribution = Exercise(
         Mistake("units-um", "σ is given in mm (σ0 = 1 mm): with σ in µm the weights come out "
                             "10⁶ times too small", _contribution(scale=1e3)),
         Mistake("weight", "the weight is p = σ0²/σ², with σ squared", _contribution(power=1)),
+        Mistake("weight-inverted", "the weight is inverted: p = σ0²/σ² (divide by σ²), not σ²/σ0²", _contribution(power=-2)),  # noqa: E501
     ))
 
 
