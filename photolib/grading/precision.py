@@ -173,13 +173,30 @@ def derived(exercise, params) -> Precision | None:
     return Precision("decimal", step, unit)
 
 
+#: metres per unit, for a precision stated in another length unit than the answer's
+_LENGTHS = {"µm": 1e-6, "mm": 1e-3, "cm": 1e-2, "m": 1.0, "km": 1e3}
+
+
+def _in_answer_unit(precision: Precision, unit: str) -> Precision:
+    """"in m, to 1 mm" is a step of 0.001 in the answer's unit m.
+
+    >>> _in_answer_unit(Precision("decimal", 1.0, "mm"), "m")
+    Precision(kind='decimal', value=0.001, unit='m')
+    """
+    if (precision.kind == "decimal" and precision.unit in _LENGTHS and unit in _LENGTHS
+            and precision.unit != unit):
+        step = precision.value * _LENGTHS[precision.unit] / _LENGTHS[unit]
+        return Precision("decimal", float(f"{step:.12g}"), unit)
+    return precision
+
+
 def for_variant(exercise, params, statement: str | None = None) -> tuple[Precision | None, bool]:
     """``(precision, in_words)``: what the statement states in words (``in_words`` True),
     else the exercise's ``precision`` override, else :func:`derived`."""
     text = statement if statement is not None else exercise.statement
     words = stated_in_words(text)
     if words is not None:
-        return words, True
+        return _in_answer_unit(words, answer_unit_words(exercise)), True
     override = getattr(exercise, "precision", "")
     if override:
         return stated_in_words(override) or Precision("significant", 0), False

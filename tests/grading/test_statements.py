@@ -145,3 +145,12 @@ def test_the_derived_precision_follows_the_tolerance():
                    reference=lambda p: p["a"], rtol=0, atol=0.0007,
                    precision="to 0.01 mm")
     assert for_variant(ex2, p) == (Precision("decimal", 0.01, "mm"), False)
+
+
+def test_a_precision_in_another_length_unit_is_converted_to_the_answers():
+    ex = Exercise(id="demo.units", points=1, title="t", kind="number", answer="x",
+                  statement="Give the height in m, to 1 mm.", parameters=lambda rng: {},
+                  reference=lambda p: 12.3456, rtol=0, atol=0.0006)
+    precision, in_words = for_variant(ex, ex.parameters(None))
+    assert in_words and precision == Precision("decimal", 0.001, "m")
+    assert precision.round(12.3456) == 12.346

@@ -425,7 +425,7 @@ nav_centre = Exercise(
               "arm (Hebelarm) from the projection centre to the antenna is "
               "({lx}, {ly}, {lz}) m in the body frame (x forward, y right, z down). With "
               "$R_{{nav}}$ = {R_nav} (body → object, from step 1's attitude), compute the "
-              "projection centre $\\mathbf X_0$ in m as an array of shape (3,), to 1 mm.",
+              "projection centre $\\mathbf X_0$ in m as an array of shape (3,), to 0.001 m.",
     parameters=_nav_scenario, reference=_nav_centre, tolerance=PRINTED, rtol=1e-6, atol=5e-4,
     mistakes=(
         Mistake("sign", "the lever arm points from the camera to the antenna: "
@@ -455,7 +455,7 @@ nav_image = Exercise(
     statement="With the exterior orientation of steps 1 and 2, $\\mathbf X_0$ = {X0} m and "
               "$R$ = {R}, and the camera constant $c$ = {c_mm} mm (principal point at the "
               "origin, no distortion), compute the image coordinates $(x', y')$ in mm of the "
-              "ground point X = ({X}, {Y}, {Z}) m, to 0.001 mm, as an array of shape (2,).",
+              "ground point X = ({X}, {Y}, {Z}) m, to 0.0001 mm, as an array of shape (2,).",
     parameters=_nav_scenario, reference=lambda p: _nav_image(p), tolerance=PRINTED,
     rtol=0.0, atol=5e-5,
     mistakes=(

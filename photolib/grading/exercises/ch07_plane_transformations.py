@@ -353,7 +353,7 @@ fiducial_affine = Exercise(
               "may scale, shear and turn the image. Estimate the affine transformation "
               "(col, row) → (x', y') by least squares from the four marks (interior "
               "orientation) and give the image coordinates of the point measured at "
-              "(col, row) = {P_text} as the NumPy array [x', y'] in mm (to 0.001 mm). "
+              "(col, row) = {P_text} as the NumPy array [x', y'] in mm (to 0.0001 mm). "
               "(Mark 1's position is the correct result of step 1.)",
     parameters=_fiducial_params, reference=_fiducial_reference, tolerance=PRINTED, rtol=0.0, atol=1e-4,
     # the certificate's values define the image coordinate system: exact as printed
@@ -499,7 +499,7 @@ fiducial_centroid = Exercise(
               "Measure the mark semi-automatically by the grey-value weighted centroid, "
               "weights $w = \\max(g - t, 0)$ with the threshold $t = {background}$, "
               "$c = \\sum c_i w_i / \\sum w_i$ (rows alike), and give its position in the "
-              "scan as the NumPy array [col, row] in pixels (to 0.01 px).",
+              "scan as the NumPy array [col, row] in pixels (to 0.001 px).",
     parameters=_fiducial_params, reference=_mark_reference, rtol=1e-6, atol=0.004,
     exact=("background",),
     mistakes=(
