@@ -284,8 +284,11 @@ def test_a_class_on_one_hub(hub, tmp_path):
     private.mkdir(mode=0o700)
     py = [sys.executable, "-m", "photolib"]
     t0 = time.monotonic()
-    subprocess.run([*py, "collect", CHAPTER, "--to", str(private / "submissions")], check=True,
-                   capture_output=True, text=True, timeout=60)
+    col = subprocess.run([*py, "collect", CHAPTER, "--to", str(private / "submissions")],
+                         capture_output=True, text=True, timeout=60)
+    # exit 1 only for problems of other accounts on this machine (reported), never of ours
+    assert col.returncode in (0, 1) and not any(u in line for u in hub["students"]
+                                                 for line in col.stdout.splitlines()[1:]), col
     subs = [str(private / "submissions" / u / f"{CHAPTER}.ipynb") for u in hub["students"]]
     assert all(Path(s).exists() for s in subs), list((private / "submissions").iterdir())
     g = subprocess.run([*py, "grade", *subs, "--out", str(private / "gradebook.csv"),
