@@ -81,6 +81,7 @@ def _check_task_cells(nb, chapter: str, exercises: dict) -> None:
     """Each exercise has one task cell ``params_name = task("ID")``; no other cell assigns it."""
     from photolib.grading.notebook import _analyse
     owners = {ex.params_name: ex for ex in exercises.values()}
+    answers = {ex.answer: ex for ex in exercises.values()}
     tasks = {}
     for index, cell in enumerate(nb.cells):
         if cell.cell_type != "code":
@@ -108,9 +109,18 @@ def _check_task_cells(nb, chapter: str, exercises: dict) -> None:
                                   f"(first in cell {tasks[ex_id] + 1})")
             tasks[ex_id] = index
         own = {target for target, _ in calls}
-        for name in sorted((_analyse(cell.source).assigned & set(owners)) - own):
+        assigned = _analyse(cell.source).assigned
+        for name in sorted((assigned & set(owners)) - own):
             raise AssignError(f"{where}: assigns {name}, which holds the parameters of "
                               f"{owners[name].id}; only its task cell may")
+        # a later cell that reuses an answer's name (a helper variable `radial`) overwrites
+        # that answer after its check() said ✔: the grader, reading the namespace after Run
+        # All, would mark a right answer wrong
+        tags = set(cell.metadata.get("tags", []))
+        for name in sorted(assigned & set(answers)):
+            if f"answer:{answers[name].id}" not in tags:
+                raise AssignError(f"{where}: assigns {name}, the answer of {answers[name].id}; "
+                                  f"only its answer cell may (rename the helper variable)")
     missing = sorted(set(exercises) - set(tasks))
     if missing:
         names = ", ".join(f"{exercises[i].params_name} = task({i!r})" for i in missing)

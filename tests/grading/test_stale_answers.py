@@ -155,6 +155,19 @@ def test_assign_refuses_a_task_cell_with_another_name(master):
         make_student_copy(nb, "00-start")
 
 
+def test_assign_refuses_a_cell_that_overwrites_another_answer(master):
+    """A later cell reusing an answer's name (chapter 05's helper variable ``radial``, once)
+    would overwrite that answer after its check() said ✔, and the grader reads Run All."""
+    from photolib.grading.exercises import chapter
+
+    first, second = chapter("00-start")[:2]
+    nb = copy.deepcopy(master)
+    i = cell_index(nb, f"answer:{second.id}")
+    nb.cells[i].source = f"{first.answer} = 0.0\n" + nb.cells[i].source
+    with pytest.raises(AssignError, match=f"assigns {first.answer}, the answer of {first.id}"):
+        make_student_copy(nb, "00-start")
+
+
 def test_every_master_task_cell_assigns_the_declared_name():
     for name, exercises in chapters().items():
         master = nbformat.read(ROOT / "solutions" / f"{name}.ipynb", as_version=4)
