@@ -250,7 +250,8 @@ def plot_views(ch: Chain):
         v = res.residuals * np.array([1.0, -1.0])       # y' up → row down
         ax.quiver(*px[ctrl].T, *v.T, angles="xy", scale_units="xy", scale=0.01,
                   color="tab:orange", width=0.004)
-        ax.set_title(f"{view_name(view)}: σ0 = {res.sigma0:.3f} px, r = {res.redundancy}")
+        ax.set_title(f"{view_name(view)}: σ0 = {res.sigma0:.3f} px, r = {res.redundancy} "
+                     "(residuals ×100)")
         ax.set_axis_off()
     axes[0].legend(loc="lower left", fontsize=8)
     fig.tight_layout()

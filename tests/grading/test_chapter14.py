@@ -76,8 +76,8 @@ def test_resection_and_intersection_agree_with_opencv(sid):
     for row, view in zip(q, (p["view_a"], p["view_b"])):
         ok, (X0, R), K, R_cv, t = _opencv_pose(view, control)
         assert ok
-        np.testing.assert_allclose(row[:3], X0, atol=1e-6)
-        np.testing.assert_allclose(pl.rotation_opk(*row[3:]), R, atol=1e-9)
+        np.testing.assert_allclose(row[:3], X0, atol=1e-5)
+        np.testing.assert_allclose(pl.rotation_opk(*row[3:]), R, atol=1e-7)
         P.append(K @ np.column_stack([R_cv, t]))
     xa, xb = (pl.pixel_from_image(pj.image_coordinates(v)[p["check"]], 640, 480, 1.0)
               for v in (p["view_a"], p["view_b"]))

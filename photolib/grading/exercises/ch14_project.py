@@ -36,6 +36,14 @@ _STEPS = 5
 _NAMES = ("A1", "A2", "A3", "B1", "B2")
 
 
+def _fmt(values, digits):
+    """Numbers (a vector or a list of rows) printed with a fixed number of decimals."""
+    values = np.asarray(values, dtype=float)
+    if values.ndim == 1:
+        return "(" + ", ".join(f"{v:.{digits}f}" for v in values) + ")"
+    return "[" + ", ".join(_fmt(row, digits) for row in values) + "]"
+
+
 def _project():
     from photolib.nb import project
     return project
@@ -243,6 +251,9 @@ def _intersection_params(rng):
         out[f"X0_{key}"] = [round(float(v), 3) for v in res.X0]
         out[f"angles_{key}"] = [round(float(v), 7) for v in res.params[3:]]
         out[f"xy_{key}"] = [[round(float(v), 3) for v in row] for row in xy]
+        out[f"X0_{key}_text"] = _fmt(out[f"X0_{key}"], 3)
+        out[f"angles_{key}_text"] = _fmt(out[f"angles_{key}"], 7)
+        out[f"xy_{key}_text"] = _fmt(out[f"xy_{key}"], 3)
     return {k: p[k] for k in ("view_a", "view_b", "name_a", "name_b", "check", "k")} | out
 
 
@@ -278,12 +289,12 @@ intersection = Exercise(
     id="prj.intersection", scenario=SCENARIO, points=4, kind="array", answer="X_check",
     params_name="p_intersection",
     title=f"Step 4 of {_STEPS}: forward intersection of the check points / Vorwärtsschnitt",
-    statement="The correct orientations of step 2 are, for **{name_a}**: $X_0$ = {X0_a} mm, "
-              "$(\\omega, \\varphi, \\kappa)$ = {angles_a} rad; for **{name_b}**: $X_0$ = "
-              "{X0_b} mm, $(\\omega, \\varphi, \\kappa)$ = {angles_b} rad "
+    statement="The correct orientations of step 2 are, for **{name_a}**: $X_0$ = {X0_a_text} mm, "
+              "$(\\omega, \\varphi, \\kappa)$ = {angles_a_text} rad; for **{name_b}**: $X_0$ = "
+              "{X0_b_text} mm, $(\\omega, \\varphi, \\kappa)$ = {angles_b_text} rad "
               "($R = R_\\omega R_\\varphi R_\\kappa$); $c$ = {c:.3f} px, $x'_0$ = {x0:.3f} px, "
               "$y'_0$ = {y0:.3f} px. The corrected image coordinates (px) of your check points "
-              "{check} are {xy_a} in {name_a} and {xy_b} in {name_b}. Intersect the two rays "
+              "{check} are {xy_a_text} in {name_a} and {xy_b_text} in {name_b}. Intersect the two rays "
               "of each check point (least squares: the point closest to both rays) and give "
               "`X_check`, shape (6, 3), in mm, in the order of the corners.",
     parameters=_intersection_params, reference=_intersection, tolerance=PRINTED,
@@ -302,8 +313,8 @@ intersection = Exercise(
 def _check_params(rng):
     p = _draw(rng)
     ch = _chain(p["view_a"], p["view_b"], tuple(p["check"]))
-    return p | {"X_check": [[round(float(v), 3) for v in row] for row in ch.points],
-                "square_mm": 25.0}
+    X = [[round(float(v), 3) for v in row] for row in ch.points]
+    return p | {"X_check": X, "X_check_text": _fmt(X, 3), "square_mm": 25.0}
 
 
 def _true(p, y_sign=-1.0):
@@ -324,7 +335,7 @@ check_rms = Exercise(
     id="prj.check-rms", scenario=SCENARIO, points=3, kind="number", answer="rms_check",
     params_name="p_check",
     title=f"Step 5 of {_STEPS}: accuracy at the check points / Genauigkeit an Kontrollpunkten",
-    statement="The correct intersected check points of step 4 are `X_check` = {X_check} mm "
+    statement="The correct intersected check points of step 4 are `X_check` = {X_check_text} mm "
               "(corners {check}, in this order). Corner $k$ lies in row $k$ // 9 and column "
               "$k$ % 9 of the board, at $X = s\\cdot$column, $Y = -s\\cdot$row, $Z = 0$, with "
               "the square side $s$ = {square_mm} mm (the data set's metadata). Give "
