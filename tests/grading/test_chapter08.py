@@ -24,7 +24,7 @@ from photolib.grading.notebook import parameters_for
 from photolib.grading.spec import Params
 from photolib.grading.variants import rng_for
 
-from .chapter_checks import ChapterChecks
+from .chapter_checks import BatchGradedChecks, ChapterChecks
 from .chapter_checks import judge_as_grader as _judge
 
 EXERCISES = ch08.EXERCISES
@@ -60,13 +60,14 @@ def _points_in_front(p, n=8, seed=0):
 
 # -- the same checks as for chapters 04-06 --------------------------------------------------------
 
-class TestChapter08(ChapterChecks):
+class TestChapter08(ChapterChecks, BatchGradedChecks):
     module = ch08
     chapter_name = "08-resection-dlt"
     kinds = {"number", "array", "expression", "function"}
     students = STUDENTS
     slow_mistakes = frozenset({'rdl.dlt-coefficient'})
     scalar_cases = False            # rdl.resection-step and rdl.dlt-estimate take point arrays
+    grade_timeout = 120             # the real photograph: the chapter-05 calibration, ~2 s
 
 
 def test_a_slightly_wrong_function_is_wrong_without_a_hint():
