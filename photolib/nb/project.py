@@ -65,7 +65,11 @@ def board_points() -> np.ndarray:
 
 
 def corner_grid(k) -> tuple[int, int]:
-    """(row, column) of corner number k (0 … 53), numbered row by row as OpenCV finds them."""
+    """(row, column) of corner number k (0 … 53), numbered row by row as OpenCV finds them.
+
+    >>> corner_grid(0), corner_grid(10), corner_grid(53)
+    ((0, 0), (1, 1), (5, 8))
+    """
     k = int(k)
     if not 0 <= k < BOARD[0] * BOARD[1]:
         raise ValueError(f"corner number must be 0 … {BOARD[0] * BOARD[1] - 1}, got {k!r}")
