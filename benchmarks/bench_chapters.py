@@ -18,7 +18,7 @@ ROOT = Path(__file__).resolve().parents[1]
 CHAPTERS = ["01-introduction", "02-optics", "03-digital-images", "04-rotations",
             "05-interior-orientation", "06-collinearity", "07-plane-transformations",
             "08-resection-dlt", "09-stereo", "10-bundle-adjustment", "11-image-measurement",
-            "12-products"]
+            "12-products", "14-project"]
 FACTOR = 2.5
 
 FLOOR = """\

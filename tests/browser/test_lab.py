@@ -11,7 +11,7 @@ pytestmark = [pytest.mark.browser, pytest.mark.slow, pytest.mark.timeout(300)]
 CHAPTERS = ["01-introduction", "02-optics", "03-digital-images", "04-rotations",
             "05-interior-orientation", "06-collinearity", "07-plane-transformations",
             "08-resection-dlt", "09-stereo", "10-bundle-adjustment", "11-image-measurement",
-            "12-products"]
+            "12-products", "14-project"]
 
 
 def test_lab_answers_200(lab_url):

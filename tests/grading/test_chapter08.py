@@ -24,7 +24,7 @@ from photolib.grading.notebook import parameters_for
 from photolib.grading.spec import Params
 from photolib.grading.variants import rng_for
 
-from .chapter_checks import ChapterChecks
+from .chapter_checks import BatchGradedChecks, ChapterChecks
 from .chapter_checks import judge_as_grader as _judge
 
 EXERCISES = ch08.EXERCISES
@@ -60,12 +60,14 @@ def _points_in_front(p, n=8, seed=0):
 
 # -- the same checks as for chapters 04-06 --------------------------------------------------------
 
-class TestChapter08(ChapterChecks):
+class TestChapter08(ChapterChecks, BatchGradedChecks):
     module = ch08
     chapter_name = "08-resection-dlt"
     kinds = {"number", "array", "expression", "function"}
     students = STUDENTS
     slow_mistakes = frozenset({'rdl.dlt-coefficient'})
+    scalar_cases = False            # rdl.resection-step and rdl.dlt-estimate take point arrays
+    grade_timeout = 120             # the real photograph: the chapter-05 calibration, ~2 s
 
 
 def test_a_slightly_wrong_function_is_wrong_without_a_hint():
@@ -225,3 +227,91 @@ def test_image_point_accepts_float32_and_rounded_coordinates(sid):
         return np.round(np.array([L[:4] @ h, L[4:8] @ h]) / (L[8:] @ h[:3] + 1), 4)
     assert _judge(ex, sid, f32).status == "correct"
     assert _judge(ex, sid, rounded).status == "correct"
+
+
+# -- the exercises of issues 15/16: functions, scenarios, the real photograph ---------------------
+
+def _hidden_cases(ex, sid):
+    return ex.cases(rng_for(sid, ex.id, "hidden"), parameters_for(ex, sid))
+
+
+@pytest.mark.parametrize("sid", STUDENTS[:2])
+def test_resection_step_agrees_with_a_numerical_jacobian_and_converges(sid):
+    ex = BY_ID["rdl.resection-step"]
+    p = parameters_for(ex, sid)
+    step, numeric = ex.reference(p), ch08._gn_wrong()(p)     # no mistake: a numerical Jacobian
+    X, xy, q = _hidden_cases(ex, sid)[0]                     # the clean case
+    np.testing.assert_allclose(step(X, xy, q), numeric(X, xy, q), atol=1e-6)
+    import photolib as pl
+    full = pl.space_resection(X, xy, p["c_mm"], initial=q).params
+    for _ in range(8):
+        q = step(X, xy, q)
+    # iterated from its start, the step reaches the adjusted orientation
+    np.testing.assert_allclose(q, full, atol=1e-9)
+
+
+@pytest.mark.parametrize("sid", STUDENTS[:2])
+def test_resection_step_and_dlt_refuse_the_degenerate_cases(sid):
+    step = BY_ID["rdl.resection-step"].reference(parameters_for(BY_ID["rdl.resection-step"], sid))
+    cases = _hidden_cases(BY_ID["rdl.resection-step"], sid)
+    with pytest.raises(ValueError, match="collinear"):
+        step(*cases[3])
+    with pytest.raises(ValueError, match="≥ 3"):
+        step(*cases[4])
+    dlt = BY_ID["rdl.dlt-estimate"].reference(parameters_for(BY_ID["rdl.dlt-estimate"], sid))
+    with pytest.raises(ValueError, match="coplanar"):
+        dlt(*_hidden_cases(BY_ID["rdl.dlt-estimate"], sid)[3])
+
+
+def test_dlt_estimate_recovers_the_camera_on_the_clean_case():
+    import photolib as pl
+    ex = BY_ID["rdl.dlt-estimate"]
+    camera = Params(ch08._close_range_orientation(np.random.default_rng(5)))
+    X = _points_in_front(camera, n=9, seed=5)
+    xy = pl.project(X, ch08._centre(camera), ch08._rotation(camera), camera["c_mm"],
+                    camera["x0_mm"], camera["y0_mm"])
+    L_true = _dlt_by_hand(camera)                # K·Rᵀ·[I | −X0] with SciPy's rotation
+    np.testing.assert_allclose(ex.reference(Params())(X, xy), L_true, rtol=1e-8, atol=1e-12)
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_dlt_chain_steps_share_the_points_and_carry_the_estimate(sid):
+    steps = [BY_ID[i] for i in ("rdl.dlt-chain", "rdl.dlt-chain-estimate", "rdl.dlt-chain-interior")]
+    p1, p2, p3 = (parameters_for(ex, sid) for ex in steps)
+    assert p1["n"] == p2["n"] == p3["n"] == len(p2["X"])
+    L = steps[1].reference(p2)
+    np.testing.assert_allclose(p3["L"], L, rtol=1e-9)
+    # the decomposition gives back the drawn camera within the rounding of the points
+    rng = rng_for(sid, "rdl.dlt-chain")
+    camera = ch08._close_range_orientation(rng)
+    x0, y0, c = steps[2].reference(p3)
+    assert abs(x0 - camera["x0_mm"]) < 0.05 and abs(y0 - camera["y0_mm"]) < 0.05
+    assert abs(c - camera["c_mm"]) < 0.05
+
+
+@pytest.mark.parametrize("sid", STUDENTS[:2])
+def test_real_resection_agrees_with_solvepnp_and_the_precision_with_the_covariance(sid):
+    import photolib as pl
+    from photolib.nb import project as pj
+    ex1, ex2 = BY_ID["rdl.real-resection"], BY_ID["rdl.real-precision"]
+    p1, p2 = parameters_for(ex1, sid), parameters_for(ex2, sid)
+    assert (p1["view"], p1["unused"]) == (p2["view"], p2["unused"])
+    q = ex1.reference(p1)
+    control = [k for k in range(54) if k not in p1["unused"]]
+    r = pj.calibration().result
+    K = np.array([[r.c, 0, r.x0 + 319.5], [0, r.c, 239.5 - r.y0], [0, 0, 1.0]])
+    px = pl.pixel_from_image(pj.image_coordinates(p1["view"])[control], 640, 480, 1.0)
+    X = pj.board_points()[control]
+    ok, rvec, tvec = cv2.solvePnP(X, px, K, None, flags=cv2.SOLVEPNP_ITERATIVE)
+    rvec, tvec = cv2.solvePnPRefineLM(X, px, K, None, rvec, tvec,
+                                      (cv2.TERM_CRITERIA_COUNT + cv2.TERM_CRITERIA_EPS, 200, 1e-15))
+    X0, R = pl.exterior_from_opencv_pose(cv2.Rodrigues(rvec)[0], tvec.ravel())
+    assert ok
+    np.testing.assert_allclose(q[:3], X0, atol=1e-5)
+    np.testing.assert_allclose(pl.rotation_opk(*q[3:]), R, atol=1e-7)
+    # step 2 at the printed q: the adjustment's own covariance, to the 3 digits asked
+    std = pj.resect(p1["view"], control).std[:3]
+    np.testing.assert_allclose(ex2.reference(p2), std, rtol=2e-3)
+    # the tolerance of step 1 is one σ of each unknown, a fraction of a mm for X0
+    _, atol = ex1.tolerances(p1)
+    assert np.all(atol[:3] < 1.5) and _judge(ex1, sid, q + 0.5 * atol).status == "correct"
