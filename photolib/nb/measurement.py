@@ -453,3 +453,233 @@ class LSMExplorer(Explorer):
         self._path.set_data(hist[:, 0], hist[:, 3])
         self._patch.set_data(*_patch_outline(hist[-1]).T)
         return rep["html"]
+
+
+# -- real photographs: targets, LSM on the motorcycle pair, features, RANSAC, dense --------------
+
+@functools.lru_cache(maxsize=1)
+def real_targets():
+    """The four yellow targets of :func:`photolib.data.yellowtargets`, measured (cached)."""
+    from photolib.data import yellowtargets
+    from photolib.measurement._real import measure_targets
+
+    return tuple(measure_targets(yellowtargets()[0]))
+
+
+def target_report(index: int) -> dict:
+    """Numbers of target ``index`` of :func:`real_targets` (centroids, centre, precision)."""
+    tg = real_targets()[int(index)]
+    html = (f"<p>target {int(index)}: {tg.area} px above t = {tg.threshold:.1f}<br>"
+            f"binary centroid: ({tg.binary[0]:.2f}, {tg.binary[1]:.2f})<br>"
+            f"weighted centroid: ({tg.weighted[0]:.2f}, {tg.weighted[1]:.2f}) "
+            f"± ({tg.weighted_std[0]:.3f}, {tg.weighted_std[1]:.3f}) px "
+            f"(σ_g = {tg.sigma_g:.1f})<br>"
+            f"diagonal centre: ({tg.centre[0]:.2f}, {tg.centre[1]:.2f})<br>"
+            f"side fits σ0: {', '.join(f'{s:.2f}' for s in tg.side_sigma)} px "
+            f"({tg.side_points} edge points)</p>")
+    return {"target": tg, "html": html}
+
+
+class TargetPicker(Explorer):
+    """Pick a target of the real photograph: zoom on it with its centroids, sides and centre."""
+
+    title = "target picker (yellowtargets)"
+
+    def __init__(self, index=0, zoom=1.0):
+        import ipywidgets as widgets
+
+        from photolib.data import yellowtargets
+
+        self.controls = {"index": widgets.IntSlider(value=index, min=0, max=len(real_targets()) - 1,
+                                                    description="target"),
+                         "zoom": slider("zoom", zoom, 1.0, 4.0, 0.25, fmt=".2f")}
+        self.live = LiveFigure((4.6, 3.6))
+        ax = self.live.figure.add_subplot()
+        self.ax = ax
+        self.live.figure.subplots_adjust(0.1, 0.1, 0.98, 0.92)
+        ax.imshow(yellowtargets()[0])
+        (self._bin,) = ax.plot([], [], "x", color="#1f77b4", ms=9, label="binary centroid")
+        (self._wc,) = ax.plot([], [], "+", color="#d62728", ms=12, mew=2, label="weighted")
+        (self._quad,) = ax.plot([], [], "-", color="#2ca02c", lw=1.2, label="side lines")
+        (self._ctr,) = ax.plot([], [], "o", mfc="none", color="k", ms=7, label="diagonals")
+        ax.legend(fontsize=7, loc="lower left")
+        self.report = None
+        self._finish()
+
+    def draw(self, index, zoom) -> str:
+        self.report = rep = target_report(index)
+        tg = rep["target"]
+        self._bin.set_data([tg.binary[0]], [tg.binary[1]])
+        self._wc.set_data([tg.weighted[0]], [tg.weighted[1]])
+        q = np.vstack([tg.corners, tg.corners[:1], tg.corners[2:3], tg.corners[1:2],
+                       tg.corners[3:4]])
+        self._quad.set_data(q[:, 0], q[:, 1])
+        self._ctr.set_data([tg.centre[0]], [tg.centre[1]])
+        half = 60.0 / zoom
+        self.ax.set(xlim=(tg.weighted[0] - half, tg.weighted[0] + half),
+                    ylim=(tg.weighted[1] + half, tg.weighted[1] - half))
+        self.live.figure.canvas.draw_idle()
+        self.live.redraw_all() if hasattr(self.live, "redraw_all") else None
+        return rep["html"]
+
+
+def grey(rgb) -> np.ndarray:
+    """0.299 R + 0.587 G + 0.114 B as float (the block matcher's grey conversion)."""
+    return np.asarray(rgb, float)[..., :3] @ np.array([0.299, 0.587, 0.114])
+
+
+def lsm_real_patches(n: int = 30, half: int = 7, seed: int = 0, min_std: float = 8.0):
+    """Textured patches of the left motorcycle image on smooth ground truth: (col, row) list.
+
+    A patch qualifies when the ground truth is known on all its pixels and varies by less
+    than 1 px across it (the affine model fits) and its grey values vary (σ ≥ ``min_std``).
+    """
+    from photolib.data import motorcycle
+
+    m = motorcycle()
+    L, gt = grey(m.left), m.disparity
+    rng = np.random.default_rng(seed)
+    out = []
+    for _ in range(40 * n):
+        c, r = int(rng.integers(80, L.shape[1] - 20)), int(rng.integers(20, L.shape[0] - 20))
+        win = gt[r - half:r + half + 1, c - half:c + half + 1]
+        if (np.isfinite(win).all() and np.ptp(win) < 1.0
+                and L[r - half:r + half + 1, c - half:c + half + 1].std() >= min_std):
+            out.append((c, r))
+            if len(out) == n:
+                break
+    return out
+
+
+@functools.lru_cache(maxsize=4)
+def lsm_real_report(n: int = 30, half: int = 7, seed: int = 0) -> dict:
+    """LSM of real motorcycle patches, started at the rounded ground truth, against it.
+
+    Returns a dict: ``errors`` (k, 2) LSM position − truth (col: ``c − d_gt``, row: r), px,
+    ``std`` (k, 2) LSM's own σ of a0, b0, ``sigma0`` (k,), the patches, and statistics.
+    """
+    from photolib.data import motorcycle
+
+    m = motorcycle()
+    L, R, gt = grey(m.left), grey(m.right), m.disparity
+    errs, std, s0, used = [], [], [], []
+    for c, r in lsm_real_patches(n, half, seed):
+        f = L[r - half:r + half + 1, c - half:c + half + 1]
+        try:
+            res = least_squares_matching(f, R, (float(c - round(gt[r, c])), float(r)))
+        except (ValueError, ConvergenceError):
+            continue
+        errs.append((res.params[0] - (c - gt[r, c]), res.params[3] - r))
+        std.append(res.std[[0, 3]])
+        s0.append(res.sigma0)
+        used.append((c, r))
+    e = np.array(errs)
+    med = np.median(e[:, 0])
+    return {"errors": e, "std": np.array(std), "sigma0": np.array(s0), "patches": used,
+            "rms": np.sqrt(np.mean(e**2, axis=0)), "nmad": 1.4826 * np.median(np.abs(e[:, 0] - med)),
+            "median_std": np.median(np.array(std), axis=0), "attempted": n}
+
+
+@functools.lru_cache(maxsize=2)
+def feature_matches(detector: str = "auto", scale: int = 2, ratio: float = 0.8):
+    """Features of the two Eiffel views (OpenCV measures), matched with Lowe's ratio test.
+
+    Returns ``(name, x1, x2, img1, img2)``: the detector used ("SIFT" if ``cv2.SIFT_create``
+    exists, else "ORB"), the matched (col, row) in each image (down-sampled by ``scale``).
+    """
+    import cv2
+
+    from photolib.data import eiffel
+
+    e = eiffel()
+    a = cv2.cvtColor(e[0], cv2.COLOR_RGB2GRAY)[::scale, ::scale]
+    b = cv2.cvtColor(e[1], cv2.COLOR_RGB2GRAY)[::scale, ::scale]
+    use_sift = detector == "SIFT" or (detector == "auto" and hasattr(cv2, "SIFT_create"))
+    if use_sift:
+        det, norm, name = cv2.SIFT_create(nfeatures=800), cv2.NORM_L2, "SIFT"
+    else:
+        det, norm, name = cv2.ORB_create(nfeatures=1500), cv2.NORM_HAMMING, "ORB"
+    k1, d1 = det.detectAndCompute(a, None)
+    k2, d2 = det.detectAndCompute(b, None)
+    pairs = cv2.BFMatcher(norm).knnMatch(d1, d2, k=2)
+    good = [p[0] for p in pairs if len(p) == 2 and p[0].distance < ratio * p[1].distance]
+    x1 = np.array([k1[m.queryIdx].pt for m in good])
+    x2 = np.array([k2[m.trainIdx].pt for m in good])
+    return name, x1, x2, a, b
+
+
+def draws_until_clean(inliers, sample_size: int, runs: int = 2000, seed: int = 0) -> np.ndarray:
+    """For ``runs`` random sequences of samples: the number of draws until the first sample of
+    ``sample_size`` observations that are all inliers (the count needed in practice)."""
+    inliers = np.asarray(inliers, bool)
+    rng = np.random.default_rng(seed)
+    n = len(inliers)
+    out = np.empty(runs, int)
+    for k in range(runs):
+        t = 0
+        while True:
+            t += 1
+            if inliers[rng.choice(n, sample_size, replace=False)].all():
+                break
+        out[k] = t
+    return out
+
+
+def plot_matches(img1, img2, x1, x2, inliers, title=""):
+    """The two images side by side with the inlier (green) and outlier (red) matches."""
+    import matplotlib.pyplot as plt
+
+    h = max(img1.shape[0], img2.shape[0])
+    canvas = np.zeros((h, img1.shape[1] + img2.shape[1]))
+    canvas[:img1.shape[0], :img1.shape[1]] = img1
+    canvas[:img2.shape[0], img1.shape[1]:] = img2
+    fig, ax = plt.subplots(figsize=(9, 3.6))
+    ax.imshow(canvas, cmap="gray")
+    off = img1.shape[1]
+    for ok, col in ((False, "#d62728"), (True, "#2ca02c")):
+        sel = np.asarray(inliers) == ok
+        ax.plot(np.vstack([x1[sel, 0], x2[sel, 0] + off]), np.vstack([x1[sel, 1], x2[sel, 1]]),
+                color=col, lw=0.5, alpha=0.7)
+    ax.set(title=title, xticks=[], yticks=[])
+    return finished(fig)
+
+
+@functools.lru_cache(maxsize=1)
+def dense_report(scale: int = 2, half: int = 3) -> dict:
+    """Block matching (photolib) and OpenCV's SGBM on the motorcycle pair vs the ground truth.
+
+    Both at 1/``scale`` resolution (the ground truth divided by ``scale``); returns the
+    maps, the ground truth and :class:`photolib.dense.DisparityErrors` of each.
+    """
+    import cv2
+
+    from photolib.data import motorcycle
+    from photolib.dense import block_matching, disparity_errors
+
+    m = motorcycle()
+    L, R = m.left[::scale, ::scale], m.right[::scale, ::scale]
+    gt = m.disparity[::scale, ::scale] / scale
+    d_max = int(np.ceil(np.nanmax(gt))) + 4
+    bm = block_matching(L, R, 0, d_max, half)
+    k = 2 * half + 1
+    n_disp = 16 * int(np.ceil((d_max + 1) / 16))
+    sgbm = cv2.StereoSGBM_create(minDisparity=0, numDisparities=n_disp, blockSize=k,
+                                 P1=8 * k * k, P2=32 * k * k, uniquenessRatio=5)
+    gl, gr = (cv2.cvtColor(np.ascontiguousarray(im), cv2.COLOR_RGB2GRAY) for im in (L, R))
+    sg = sgbm.compute(gl, gr).astype(float) / 16.0
+    sg[sg < 0] = np.nan
+    return {"bm": bm, "sgbm": sg, "truth": gt, "bm_errors": disparity_errors(bm, gt),
+            "sgbm_errors": disparity_errors(sg, gt), "d_max": d_max}
+
+
+def plot_dense(rep):
+    """Ground truth, photolib's block matching and OpenCV's SGBM, same colour scale."""
+    import matplotlib.pyplot as plt
+
+    fig, axs = plt.subplots(1, 3, figsize=(10, 2.6))
+    vmax = float(np.nanmax(rep["truth"]))
+    for ax, key, t in zip(axs, ("truth", "bm", "sgbm"),
+                          ("ground truth", "photolib block matching (SAD)", "OpenCV SGBM")):
+        ax.imshow(rep[key], vmin=0, vmax=vmax, cmap="viridis")
+        ax.set(title=t, xticks=[], yticks=[])
+    return finished(fig)

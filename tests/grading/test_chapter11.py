@@ -33,6 +33,7 @@ class TestChapter11(ChapterChecks, BatchGradedChecks):
     chapter_name = "11-image-measurement"
     kinds = {"number", "array", "function", "expression"}
     students = STUDENTS
+    scalar_cases = False            # im.weighted-centroid and im.lsm-step take image windows
     grade_timeout = 120
 
 
@@ -190,3 +191,88 @@ def test_lsm_row_accepts_float32(sid):
         return np.array([r1 * gx, r1 * gx * x, r1 * gx * y, r1 * gy, r1 * gy * x, r1 * gy * y,
                          1, g], np.float32)
     assert _judge(ex, sid, row).status == "correct"
+
+
+# -- the exercises of the rewritten chapter: references by independent routes ------------------
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_weighted_centroid_function_is_scipys_and_refuses_an_empty_window(sid):
+    from photolib.grading.variants import rng_for
+
+    ex = BY_ID["im.weighted-centroid"]
+    p = parameters_for(ex, sid)
+    ref = ex.reference(p)
+    cases = ex.cases(rng_for(sid, ex.id, "hidden"), p)
+    for (window,) in cases[:-1]:
+        row, col = ndimage.center_of_mass(np.maximum(window - p["t"], 0.0))
+        np.testing.assert_allclose(ref(window), [col, row], atol=1e-12)
+    with pytest.raises(ValueError, match="empty"):
+        ref(*cases[-1])
+
+
+def _lsm_step_scipy(template, search, q):
+    """One Gauss-Newton step with SciPy's map_coordinates (order 1) as the interpolation."""
+    f, g, q = (np.asarray(v, float) for v in (template, search, q))
+    gy, gx = np.gradient(g)
+    h, w = f.shape
+    y, x = np.mgrid[:h, :w].astype(float)
+    x, y = (x - (w - 1) / 2).ravel(), (y - (h - 1) / 2).ravel()
+    cols, rows = q[0] + q[1] * x + q[2] * y, q[3] + q[4] * x + q[5] * y
+    gs, gxs, gys = (ndimage.map_coordinates(im, [rows, cols], order=1) for im in (g, gx, gy))
+    r1 = q[7]
+    A = np.column_stack([r1 * gxs, r1 * gxs * x, r1 * gxs * y, r1 * gys, r1 * gys * x,
+                         r1 * gys * y, np.ones_like(x), gs])
+    return q + np.linalg.lstsq(A, f.ravel() - q[6] - r1 * gs, rcond=None)[0]
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_lsm_step_is_a_gauss_newton_step_with_scipy_interpolation(sid):
+    from photolib.grading.variants import rng_for
+
+    ex = BY_ID["im.lsm-step"]
+    p = parameters_for(ex, sid)
+    cases = ex.cases(rng_for(sid, ex.id, "hidden"), p)
+    for case in cases[:-1]:
+        np.testing.assert_allclose(ex.reference(p)(*case), _lsm_step_scipy(*case),
+                                   rtol=1e-9, atol=1e-9)
+    with pytest.raises(ValueError):
+        ex.reference(p)(*cases[-1])
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_real_target_is_scipys_center_of_mass_of_the_window(sid):
+    from photolib.data import yellowtargets
+
+    ex = BY_ID["im.real-target"]
+    p = parameters_for(ex, sid)
+    rgb = yellowtargets()[0].astype(float)
+    y = np.minimum(rgb[..., 0], rgb[..., 1]) - rgb[..., 2]
+    w = np.maximum(y[p["r0"]:p["r1"], p["c0"]:p["c1"]] - p["t"], 0.0)
+    row, col = ndimage.center_of_mass(w)
+    np.testing.assert_allclose(ex.reference(p), [col + p["c0"], row + p["r0"]], atol=1e-9)
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_ransac_counts_are_the_smallest_n_by_search(sid):
+    ex2, ex3 = BY_ID["im.ransac-homography"], BY_ID["im.ransac-fundamental"]
+    p = parameters_for(ex2, sid)
+    assert p == parameters_for(ex3, sid) == parameters_for(BY_ID["im.ransac-eps"], sid)
+    for ex, s in ((ex2, 4), (ex3, 8)):
+        clean = (1 - p["eps"]) ** s
+        n = 1
+        while (1 - clean) ** n > 1 - p["p"]:
+            n += 1
+        assert ex.reference(p) == n
+
+
+@pytest.mark.parametrize("sid", STUDENTS)
+def test_subpixel_disparity_is_the_vertex_of_numpys_parabola_and_depth_the_calibrations(sid):
+    from photolib.data import MOTORCYCLE_CALIBRATION
+
+    ex1, ex2 = BY_ID["im.subpixel-disparity"], BY_ID["im.disparity-depth"]
+    p = parameters_for(ex1, sid)
+    a, b, _ = np.polyfit([-1.0, 0.0, 1.0], [p["rm"], p["r0"], p["rp"]], 2)
+    assert ex1.reference(p) == pytest.approx(p["d0"] - b / (2 * a), abs=1e-9)
+    assert p["d"] == round(ex1.reference(p), 3)
+    z = float(MOTORCYCLE_CALIBRATION.depth_mm([p["d"]])[0])
+    assert ex2.reference(parameters_for(ex2, sid)) == pytest.approx(z, rel=1e-12)
