@@ -42,7 +42,7 @@ SOURCES = {"de-summary": "German lecture summary 'Grundlagen der Photogrammetrie
 CHAPTERS = ("00-start", "01-introduction", "02-optics", "03-digital-images", "04-rotations",
             "05-interior-orientation", "06-collinearity", "07-plane-transformations",
             "08-resection-dlt", "09-stereo", "10-bundle-adjustment", "11-image-measurement",
-            "12-products", "13-errata", "glossary")
+            "12-products", "13-errata", "14-project", "glossary")
 
 
 class Term(NamedTuple):

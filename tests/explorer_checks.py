@@ -130,6 +130,10 @@ def legend_covers(fig):
             if not len(points):
                 continue
             points = points[np.isfinite(points).all(axis=1)]
+            if artist.get_clip_on():      # clipped vertices outside the axes are not drawn
+                frame = ax.get_window_extent(renderer)
+                points = points[(points[:, 0] >= frame.x0) & (points[:, 0] <= frame.x1)
+                                & (points[:, 1] >= frame.y0) & (points[:, 1] <= frame.y1)]
             count += int(np.sum((points[:, 0] > box.x0) & (points[:, 0] < box.x1)
                                 & (points[:, 1] > box.y0) & (points[:, 1] < box.y1)))
         if count:

@@ -486,27 +486,27 @@ class TargetPicker(Explorer):
     title = "target picker (yellowtargets)"
 
     def __init__(self, index=0, zoom=1.0):
-        import ipywidgets as widgets
-
         from photolib.data import yellowtargets
 
-        self.controls = {"index": widgets.IntSlider(value=index, min=0, max=len(real_targets()) - 1,
-                                                    description="target"),
+        self.controls = {"index": slider("target", index, 0, len(real_targets()) - 1, 1,
+                                         fmt=".0f"),
                          "zoom": slider("zoom", zoom, 1.0, 4.0, 0.25, fmt=".2f")}
         self.live = LiveFigure((4.6, 3.6))
         ax = self.live.figure.add_subplot()
         self.ax = ax
-        self.live.figure.subplots_adjust(0.1, 0.1, 0.98, 0.92)
+        self.live.figure.subplots_adjust(0.1, 0.24, 0.98, 0.92)
         ax.imshow(yellowtargets()[0])
         (self._bin,) = ax.plot([], [], "x", color="#1f77b4", ms=9, label="binary centroid")
         (self._wc,) = ax.plot([], [], "+", color="#d62728", ms=12, mew=2, label="weighted")
         (self._quad,) = ax.plot([], [], "-", color="#2ca02c", lw=1.2, label="side lines")
         (self._ctr,) = ax.plot([], [], "o", mfc="none", color="k", ms=7, label="diagonals")
-        ax.legend(fontsize=7, loc="lower left")
+        # below the image, off the data
+        ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=4)
         self.report = None
         self._finish()
 
     def draw(self, index, zoom) -> str:
+        index = int(round(index))               # the slider's value is a float
         self.report = rep = target_report(index)
         tg = rep["target"]
         self._bin.set_data([tg.binary[0]], [tg.binary[1]])

@@ -16,8 +16,10 @@
 References come from :mod:`photolib.measurement`, :mod:`photolib.fitting`,
 :func:`photolib.matching.lsm_design_matrix` and :func:`photolib.derive.conic.conic_centre`.
 
->>> [ex.id for ex in EXERCISES]
-['im.log-value', 'im.moment-p1', 'im.circle-conic', 'im.centroid', 'im.lsm-row', 'im.conic-centre']
+>>> [ex.id for ex in EXERCISES]  # doctest: +NORMALIZE_WHITESPACE
+['im.log-value', 'im.moment-p1', 'im.circle-conic', 'im.centroid', 'im.lsm-row',
+ 'im.conic-centre', 'im.weighted-centroid', 'im.lsm-step', 'im.real-target', 'im.ransac-eps',
+ 'im.ransac-homography', 'im.ransac-fundamental', 'im.subpixel-disparity', 'im.disparity-depth']
 """
 
 from __future__ import annotations
@@ -664,6 +666,14 @@ def _subpix(p, sign=1.0, factor=1.0):
     return p["d0"] + sign * factor * float(parabola_vertex(p["rm"], p["r0"], p["rp"]))
 
 
+def _subpix_mistake(p, sign=1.0, factor=1.0):
+    """A mistake's disparity, or None where it lies within four significant digits of the
+    right one: the offset δ is a fraction of a pixel on a disparity of tens of pixels, and a
+    right answer rounded to four digits must not be told it made this mistake."""
+    wrong, right = _subpix(p, sign, factor), _subpix(p)
+    return None if abs(wrong - right) <= 1e-3 * abs(right) else wrong
+
+
 def _depth(p, doffs=True, scale=1.0):
     from photolib.data import MOTORCYCLE_CALIBRATION as cal
     return scale * cal.f_px * cal.baseline_mm / (p["d"] + (cal.doffs_px if doffs else 0.0))
@@ -678,14 +688,15 @@ subpixel_disparity = Exercise(
               r"with the right windows peaks at the integer disparity $d_0$ = {d0} px: "
               r"$\rho(d_0 - 1)$ = {rm:.4f}, $\rho(d_0)$ = {r0:.4f}, $\rho(d_0 + 1)$ = {rp:.4f}. Fit the "
               r"parabola through the three values and give the disparity of its vertex in px, "
-              r"to 0.001 px.",
+              r"to 0.0001 px.",
     parameters=_subpix_params, reference=_subpix, tolerance=PRINTED,
     mistakes=(Mistake("sign", "the offset has the wrong sign: δ = (ρ₋ − ρ₊)/(2(ρ₋ − 2ρ₀ + ρ₊)) "
-                              "moves towards the larger neighbour", lambda p: _subpix(p, -1.0)),
+                              "moves towards the larger neighbour", lambda p: _subpix_mistake(p, -1.0)),
               Mistake("factor-2", "the vertex is at (ρ₋ − ρ₊)/(2(ρ₋ − 2ρ₀ + ρ₊)): the factor "
-                                  "2 in the denominator is missing", lambda p: _subpix(p, 1.0, 2.0)),
+                                  "2 in the denominator is missing",
+                      lambda p: _subpix_mistake(p, 1.0, 2.0)),
               Mistake("half", "the denominator is 2(ρ₋ − 2ρ₀ + ρ₊), not 4(…)",
-                      lambda p: _subpix(p, 1.0, 0.5))))
+                      lambda p: _subpix_mistake(p, 1.0, 0.5))))
 
 disparity_depth = Exercise(
     params_name="p_depth",
@@ -695,7 +706,7 @@ disparity_depth = Exercise(
     statement=r"The pair is the Middlebury motorcycle pair of `pl.data.motorcycle()`: "
               r"$f$ = 994.978 px, $B$ = 193.001 mm, principal-point offset "
               r"$d_\mathrm{{offs}}$ = 31.086 px, $Z = fB/(d + d_\mathrm{{offs}})$. With the "
-              r"subpixel disparity $d$ = {d:.3f} px (step 1), give the depth $Z$ in mm to 0.1 mm.",
+              r"subpixel disparity $d$ = {d:.3f} px (step 1), give the depth $Z$ in mm to 0.01 mm.",
     parameters=_subpix_params, reference=_depth, tolerance=PRINTED,
     mistakes=(Mistake("doffs", "the principal points' offset d_offs belongs to the disparity: "
                                "Z = fB/(d + d_offs)", lambda p: _depth(p, doffs=False)),
