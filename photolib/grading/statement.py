@@ -114,6 +114,9 @@ _PROTECTED = re.compile(r"(\$\$|(?<!\\)\$|`[^`]*`|<[^>]*>)")
 _HYPHEN_MINUS = re.compile(r"(?<=[\s(\[=,;:])-(?=\d)|^-(?=\d)")
 
 
+#: a word that ends in a hyphen right before a field: one name with the field's number
+_WORD_HYPHEN = re.compile(r"[\w.]*\w-$|(?:(?<=[\s(\[=,;:])|^)-$")
+
 _INTRAWORD_STAR = re.compile(r"(?<=\w)\*(?=\w)")
 
 
@@ -150,7 +153,15 @@ def render(statement: str, params) -> str:
         value, _ = formatter.get_field(name, (), params)
         if conversion:
             value = formatter.convert_field(value, conversion)
-        out.append(_field_markdown(value, spec or "", in_math))
+        field = _field_markdown(value, spec or "", in_math)
+        glued = None if in_math or not out else _WORD_HYPHEN.search(out[-1])
+        if glued and field.startswith(_NOWRAP.split("{")[0]):
+            # a name such as aerial2-{j:03d}: the browser would break at the hyphen
+            # and a minus typed before a field ("x = -{k}") keeps to its number as a minus sign
+            name = glued.group()
+            out[-1] = out[-1][:glued.start()]
+            field = _NOWRAP.format((name if name != "-" else "−") + field)
+        out.append(field)
     return "".join(out)
 
 

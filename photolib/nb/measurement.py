@@ -518,8 +518,7 @@ class TargetPicker(Explorer):
         half = 60.0 / zoom
         self.ax.set(xlim=(tg.weighted[0] - half, tg.weighted[0] + half),
                     ylim=(tg.weighted[1] + half, tg.weighted[1] - half))
-        self.live.figure.canvas.draw_idle()
-        self.live.redraw_all() if hasattr(self.live, "redraw_all") else None
+        self.live.invalidate()  # nothing is animated: the markers and the limits are the background
         return rep["html"]
 
 

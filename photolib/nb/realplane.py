@@ -115,7 +115,8 @@ def zoom_report(image, corner: int = 0, half: int = 12) -> dict:
     shift = refined[k] - approx[k]
     html = (f"<b>{CORNERS[k]}</b><br>picked: ({approx[k, 0]:.0f}, {approx[k, 1]:.0f}) px<br>"
             f"cornerSubPix: ({refined[k, 0]:.2f}, {refined[k, 1]:.2f}) px<br>"
-            f"moved by ({shift[0]:+.2f}, {shift[1]:+.2f}) px")
+            f"moved by ({shift[0]:+.2f}, {shift[1]:+.2f}) px<br>"
+            f"zoom window: {c1 - c0} × {r1 - r0} px")
     return {"crop": crop, "extent": extent, "approx": approx[k], "refined": refined[k],
             "html": html}
 

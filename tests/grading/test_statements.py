@@ -63,6 +63,15 @@ def test_rendering_puts_fields_in_maths_and_lists_in_arrays():
     assert "x\\*1" in md
 
 
+def test_a_name_with_a_numbered_field_stays_whole():
+    # the browser broke chapter 12's "aerial2-" / "008" at the hyphen
+    md = render("images aerial2-{j:03d} and aerial2-{i:03d}; x = -{k}", {"j": 8, "i": 9, "k": 2})
+    outer = r'<span style="white-space:nowrap">{}<span style="white-space:nowrap">{}</span></span>'
+    assert outer.format("aerial2-", "008") in md and outer.format("aerial2-", "009") in md, md
+    # a hyphen typed before a field after a space is a minus, kept with its number
+    assert outer.format("−", "2") in md, md
+
+
 def test_the_statement_of_a_split_number_of_today_is_whole():
     # issue 14: "v = [-" / "1.5, …" read as +1.5: bun.sigma0 printed v as a plain list
     ex = next(ex for ex in ALL if ex.id == "bun.sigma0")
