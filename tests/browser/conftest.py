@@ -55,6 +55,8 @@ def lab_url(lab_root, lab_log):
     shutil.copytree(REPO / "notebooks", root / "notebooks")
     # the student copies, as a student opens them (they link to ../notebooks)
     shutil.copytree(REPO / "exercises", root / "exercises")
+    # the solution masters: test_rerun runs them as an instructor does
+    shutil.copytree(REPO / "solutions", root / "solutions")
     # cells outside the viewport are not in the DOM under JupyterLab 4's default
     # windowing; render them all so that every widget can be found and moved
     settings = root / "settings" / "@jupyterlab" / "notebook-extension"
