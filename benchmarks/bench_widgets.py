@@ -17,7 +17,8 @@ TARGET_MS = 50.0
 
 def _cases():
     from photolib.nb import (bundle, distortion, glossary, intro, measurement, optics, plane,
-                             products, projection, resection, rotations, sensors, stereo)
+                             products, project, projection, resection, rotations, sensors,
+                             stereo)
 
     return [
         (rotations.RotationExplorer, "phi", (10.0, 60.0)),
@@ -53,6 +54,8 @@ def _cases():
         (sensors.BayerExplorer, "period_px", (3.0, 9.0)),
         (intro.ImageScaleExplorer, "log_distance", (1.0, 3.5)),
         (intro.FlightBlockExplorer, "height_m", (900.0, 2500.0)),
+        (project.ChainExplorer, "view_a", (0.0, 13.0)),
+        (project.NoiseExplorer, "sigma", (0.5, 1.5)),
     ]
 
 

@@ -29,9 +29,9 @@ from dataclasses import dataclass
 import numpy as np
 
 import photolib as pl
-from photolib.nb.live import finished
+from photolib.nb.live import Explorer, LiveFigure, finished, slider
 
-__all__ = ["BOARD", "Chain", "PAIRS", "board_points", "calibration", "chain", "corner_grid",
+__all__ = ["BOARD", "Chain", "ChainExplorer", "NoiseExplorer", "PAIRS", "board_points", "calibration", "chain", "corner_grid",
            "draw_check_points", "draw_pair", "image_coordinates", "intersection_angle",
            "pixel_corners", "plot_check_errors", "plot_views", "predicted_precision", "resect",
            "view_name"]
@@ -95,16 +95,18 @@ def image_coordinates(view: int) -> np.ndarray:
     return pp + r.distortion.correct(cal.xy[int(view)] - pp)
 
 
-def resect(view: int, control) -> pl.ResectionResult:
+def resect(view: int, control, xy=None) -> pl.ResectionResult:
     """Space resection of a view from the control corners ``control`` (corner numbers), with
-    the calibration's c, x'0, y'0 on the corrected coordinates; start from the plane
-    homography (:func:`photolib.testfield.plane_start`)."""
+    the calibration's c, x'0, y'0 on the corrected coordinates (or on ``xy``, (54, 2) px, the
+    view's corrected coordinates with something added); start from the plane homography
+    (:func:`photolib.testfield.plane_start`)."""
     from photolib.testfield import plane_start
     control = np.asarray(control, dtype=int)
     if control.ndim != 1 or len(np.unique(control)) < 4:
         raise ValueError(f"control must list ≥ 4 distinct corner numbers, got {control.tolist()}")
     r = calibration().result
-    X, xy = board_points()[control], image_coordinates(view)[control]
+    xy = image_coordinates(view) if xy is None else xy
+    X, xy = board_points()[control], xy[control]
     pp = np.array([r.x0, r.y0])
     _, start = plane_start([xy - pp], X[:, :2], c=r.c)
     return pl.space_resection(X, xy, r.c, r.x0, r.y0, initial=start[0])
@@ -119,7 +121,8 @@ def intersection_angle(view_a: int, view_b: int) -> float:
     C = _centres()
     centre = board_points().mean(axis=0)
     a, b = C[int(view_a)] - centre, C[int(view_b)] - centre
-    return float(np.degrees(np.arccos(a @ b / np.linalg.norm(a) / np.linalg.norm(b))))
+    cos = a @ b / np.linalg.norm(a) / np.linalg.norm(b)
+    return float(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))))
 
 
 def _pairs():
@@ -169,25 +172,29 @@ def _intersection(ra, rb, xa, xb):
 def predicted_precision(ra, rb, xa, xb, sigma_xy: float) -> np.ndarray:
     """(m, 3) standard deviations (mm) of the intersected points, by linear propagation of
     σ_xy on the four image coordinates of each point and of both resections' covariance
-    ``Σ_qq`` (numerical derivatives, central differences)."""
+    ``Σ_qq``: ``Σ_XX = σ_xy²·J_x·J_xᵀ + J_q·Σ_qq·J_qᵀ`` per point, with the derivatives by
+    central differences. Each point is intersected on its own, so one step of an image
+    coordinate of every point at once gives every point's column of ``J_x``: 32 intersections
+    for any m."""
     r = calibration().result
-    qa, qb = ra.params, rb.params
-    out = []
-    for i in range(len(xa)):
-        x = np.r_[xa[i], xb[i], qa, qb]
+    xa, xb = np.asarray(xa, dtype=float), np.asarray(xb, dtype=float)
+    q = np.r_[ra.params, rb.params]
+    xy = np.concatenate([xa, xb], axis=1)                     # (m, 4)
 
-        def f(z):
-            Ra, Rb = pl.rotation_opk(*z[7:10]), pl.rotation_opk(*z[13:16])
-            return pl.forward_intersection([z[0:2], z[2:4]], [z[4:7], z[10:13]], [Ra, Rb],
-                                           r.c, r.x0, r.y0).points
-        steps = np.r_[np.full(4, 1e-3), np.tile(np.r_[np.full(3, 1e-3), np.full(3, 1e-7)], 2)]
-        J = np.column_stack([(f(x + h * e) - f(x - h * e)) / (2 * h)
-                             for h, e in zip(steps, np.eye(16))])
-        S = np.zeros((16, 16))
-        S[:4, :4] = sigma_xy**2 * np.eye(4)
-        S[4:10, 4:10], S[10:, 10:] = ra.covariance, rb.covariance
-        out.append(np.sqrt(np.diag(J @ S @ J.T)))
-    return np.array(out)
+    def f(xy, q):
+        Ra, Rb = pl.rotation_opk(*q[3:6]), pl.rotation_opk(*q[9:12])
+        return pl.forward_intersection(np.stack([xy[:, 0:2], xy[:, 2:4]]), [q[0:3], q[6:9]],
+                                       [Ra, Rb], r.c, r.x0, r.y0).points
+
+    J_x = np.stack([(f(xy + 1e-3 * e, q) - f(xy - 1e-3 * e, q)) / 2e-3 for e in np.eye(4)],
+                   axis=2)                                     # (m, 3, 4)
+    steps = np.tile(np.r_[np.full(3, 1e-3), np.full(3, 1e-7)], 2)
+    J_q = np.stack([(f(xy, q + h * e) - f(xy, q - h * e)) / (2 * h)
+                    for h, e in zip(steps, np.eye(12))], axis=2)  # (m, 3, 12)
+    S_q = np.zeros((12, 12))
+    S_q[:6, :6], S_q[6:, 6:] = ra.covariance, rb.covariance
+    cov = sigma_xy**2 * J_x @ J_x.transpose(0, 2, 1) + J_q @ S_q @ J_q.transpose(0, 2, 1)
+    return np.sqrt(np.diagonal(cov, axis1=1, axis2=2))
 
 
 @dataclass(frozen=True)
@@ -220,16 +227,30 @@ class Chain:
         return float(np.sqrt(np.mean(np.sum(self.predicted**2, axis=1))))
 
 
-def chain(view_a: int, view_b: int, check) -> Chain:
-    """Run the project's chain on two views with the given check points (corner numbers)."""
+def chain(view_a: int, view_b: int, check, noise=None) -> Chain:
+    """Run the project's chain on two views with the given check points (corner numbers).
+
+    ``noise``: optional (2, 54, 2) px added to the corrected image coordinates of view a and
+    of view b before both resections and the intersection (a simulated poorer measurement).
+    """
     if int(view_a) == int(view_b):
         raise ValueError(f"the two views must differ, got {view_a!r} twice")
     check = sorted(int(k) for k in check)
     for k in check:
         corner_grid(k)
-    control = [k for k in range(BOARD[0] * BOARD[1]) if k not in check]
-    ra, rb = resect(view_a, control), resect(view_b, control)
-    xa, xb = image_coordinates(view_a)[check], image_coordinates(view_b)[check]
+    if len(set(check)) != len(check):
+        raise ValueError(f"check points must be distinct corner numbers, got {check}")
+    n = BOARD[0] * BOARD[1]
+    xy_a, xy_b = image_coordinates(view_a), image_coordinates(view_b)
+    if noise is not None:
+        noise = np.asarray(noise, dtype=float)
+        if noise.shape != (2, n, 2) or not np.all(np.isfinite(noise)):
+            raise ValueError(f"noise must be a finite (2, {n}, 2) array in px, got shape "
+                             f"{noise.shape}")
+        xy_a, xy_b = xy_a + noise[0], xy_b + noise[1]
+    control = [k for k in range(n) if k not in check]
+    ra, rb = resect(view_a, control, xy_a), resect(view_b, control, xy_b)
+    xa, xb = xy_a[check], xy_b[check]
     points = _intersection(ra, rb, xa, xb)
     sigma = float(np.sqrt((ra.sigma0**2 * ra.redundancy + rb.sigma0**2 * rb.redundancy)
                           / (ra.redundancy + rb.redundancy)))
@@ -284,3 +305,219 @@ def plot_check_errors(ch: Chain, scale: float = 200.0):
                  f"predicted {ch.predicted_rms:.3f} mm")
     fig.tight_layout()
     return finished(fig)
+
+
+# -- widgets --------------------------------------------------------------------------------------
+class ChainExplorer(Explorer):
+    """The chain on another pair of views: pick view A and view B and the number of check
+    points (``check``: the corners withheld at the start; other numbers are a seeded draw); see
+    the pair's geometry (side view: the 14 camera centres, the two rays to the board centre),
+    the check points' errors (×200, with their predicted 1σ bars) and RMS against the
+    prediction."""
+
+    title = "the chain on a pair of views: geometry and accuracy"
+    SCALE = 200.0
+    COLOURS = ("tab:blue", "tab:orange")
+
+    def __init__(self, view_a: int = 2, view_b: int = 11, check=None, seed: int = 14):
+        from matplotlib.collections import LineCollection
+
+        n = len(calibration().files)
+        self.seed = int(seed)
+        self.check = None if check is None else tuple(sorted(int(k) for k in check))
+        n_check = 6 if check is None else len(self.check)
+        if not 3 <= n_check <= 24:
+            raise ValueError(f"check must list 3 … 24 corner numbers, got {n_check}")
+        self.controls = {
+            "view_a": slider("view A (0 = left01)", view_a, 0, n - 1, 1, fmt=".0f"),
+            "view_b": slider("view B (0 = left01)", view_b, 0, n - 1, 1, fmt=".0f"),
+            "n_check": slider("check points", n_check, 3, 24, 1, fmt=".0f"),
+        }
+        self.live = live = LiveFigure((7.4, 3.3))
+        fig = live.figure
+        geo, err = fig.add_subplot(1, 2, 1), fig.add_subplot(1, 2, 2)
+        fig.subplots_adjust(0.09, 0.15, 0.98, 0.88, wspace=0.3)
+        # still: the board (side view and from above) and the 14 camera centres
+        C, X = _centres(), board_points()
+        geo.plot([X[:, 0].min(), X[:, 0].max()], [0, 0], lw=4, color="0.3",
+                 solid_capstyle="butt")
+        geo.plot(C[:, 0], C[:, 2], "o", ms=4, color="0.75")
+        geo.set(xlabel="X [mm]", ylabel="Z [mm]", xlim=(-120, 340), ylim=(-30, 420))
+        geo.set_aspect("equal")
+        err.plot(X[:, 0], X[:, 1], ".", color="0.75", ms=3)
+        err.set(xlabel="X [mm]", ylabel="Y [mm]", xlim=(-60, 260), ylim=(-185, 60))
+        err.set_aspect("equal")
+        # moving: rays, centres and names of A and B; error vectors, their tips and 1σ bars
+        self._rays = [live.animate(geo.plot([], [], "-", color=c, lw=1.2)[0])
+                      for c in self.COLOURS]
+        self._centre = [live.animate(geo.plot([], [], "o", ms=7, color=c)[0])
+                        for c in self.COLOURS]
+        self._names = [live.animate(geo.annotate(name, (0, 0), textcoords="offset points",
+                                                 xytext=(5, 4), color=c, fontsize=9,
+                                                 fontweight="bold"))
+                       for name, c in zip("AB", self.COLOURS)]
+        self._geo_title = live.animate(geo.set_title("", fontsize=9))
+        self._vectors = live.animate(err.add_collection(
+            LineCollection([], colors="tab:red", linewidths=1.6)))
+        self._tips = live.animate(err.plot([], [], "o", ms=3, color="tab:red")[0])
+        self._bars = live.animate(err.add_collection(
+            LineCollection([], colors="tab:gray", linewidths=1.0)))
+        self._err_title = live.animate(err.set_title("", fontsize=9))
+        self._message = live.animate(err.text(0.5, 0.5, "one view:\nno intersection",
+                                              ha="center", va="center", fontsize=11,
+                                              color="tab:red", transform=err.transAxes))
+        self.chain = None
+        self._finish()
+
+    def check_points(self, n_check: int) -> list[int]:
+        """The withheld corners for ``n_check`` check points: the ones given to the widget
+        when it has that many, else a seeded draw with corners in both board halves."""
+        if self.check is not None and int(n_check) == len(self.check):
+            return list(self.check)
+        return draw_check_points(np.random.default_rng(self.seed), int(n_check))
+
+    def _geometry(self, views) -> None:
+        C, centre = _centres(), board_points().mean(axis=0)
+        for i, (ray, dot, name) in enumerate(zip(self._rays, self._centre, self._names)):
+            v = views[min(i, len(views) - 1)]
+            ray.set_data([C[v, 0], centre[0]], [C[v, 2], centre[2]])
+            dot.set_data([C[v, 0]], [C[v, 2]])
+            name.xy = (C[v, 0], C[v, 2])
+
+    def _errors(self, ch) -> None:
+        if ch is None:
+            for art in (self._vectors, self._bars):
+                art.set_segments([])
+            self._tips.set_data([], [])
+            return
+        t, s = ch.true[:, :2], ch.predicted[:, :2] * self.SCALE
+        tip = t + self.SCALE * ch.errors[:, :2]
+        self._vectors.set_segments(np.stack([t, tip], axis=1))
+        self._tips.set_data(tip[:, 0], tip[:, 1])
+        dx, dy = np.column_stack([s[:, 0], 0 * s[:, 0]]), np.column_stack([0 * s[:, 1], s[:, 1]])
+        self._bars.set_segments(np.concatenate([np.stack([tip - dx, tip + dx], axis=1),
+                                                np.stack([tip - dy, tip + dy], axis=1)]))
+
+    def draw(self, view_a, view_b, n_check) -> str:
+        a, b, m = int(view_a), int(view_b), int(n_check)
+        if a == b:
+            self.chain = None
+            self._geometry((a,))
+            self._names[0].set_text("A = B")
+            self._names[1].set_visible(False)
+            self._errors(None)
+            self._message.set_visible(True)
+            self._geo_title.set_text(f"A = B = {view_name(a)}")
+            self._err_title.set_text("")
+            return (f"<b>View A and view B are the same photograph ({view_name(a)}).</b><br>"
+                    "Two rays of one camera meet only at its centre: a forward intersection "
+                    "needs two views from different places. Move one of the sliders.")
+        alpha = intersection_angle(a, b)
+        self.chain = ch = chain(a, b, self.check_points(m))
+        self._geometry((a, b))
+        self._names[0].set_text("A")
+        self._names[1].set_visible(True)
+        self._errors(ch)
+        self._message.set_visible(False)
+        self._geo_title.set_text(f"intersection angle {alpha:.1f}°")
+        self._err_title.set_text(f"check-point errors ×{self.SCALE:g} (1σ bars)")
+        ra, rb = ch.resections
+        sz = np.sqrt(np.mean(ch.predicted[:, 2] ** 2))
+        warn = ("<br><b>Small intersection angle</b> (&lt; 15°): the rays meet at a glancing "
+                "angle, Z along the viewing direction is poorly determined."
+                if alpha < MIN_ANGLE_DEG else "")
+        return (f"<b>A</b> = {view_name(a)}, <b>B</b> = {view_name(b)}: α = {alpha:.1f}°<br>"
+                f"control points {len(ch.control)}, check points {len(ch.check)}<br>"
+                f"resection σ0: A {ra.sigma0:.3f} px, B {rb.sigma0:.3f} px "
+                f"(r = {ra.redundancy})<br>"
+                f"check-point RMS <b>{ch.rms:.3f} mm</b><br>"
+                f"predicted from σ0 and Σqq: {ch.predicted_rms:.3f} mm "
+                f"(of it σZ {sz:.3f} mm)<br>"
+                f"accuracy / precision = {ch.rms / ch.predicted_rms:.2f}" + warn)
+
+
+class NoiseExplorer(Explorer):
+    """A poorer measurement: add Gaussian noise σ to every measured image coordinate of both
+    views (one seeded draw, scaled by σ) and run the chain again. The resections' σ0 grows as
+    √(σ0,real² + σ²), and the check points' RMS follows the prediction."""
+
+    title = "noise on the measurement: σ0, check-point RMS and their prediction"
+    SIGMAS = np.round(np.linspace(0.0, 2.0, 9), 6)
+
+    def __init__(self, view_a: int = 2, view_b: int = 11, check=(4, 13, 20, 31, 39, 48),
+                 sigma: float = 0.5, draw: int = 0):
+        if int(view_a) == int(view_b):
+            raise ValueError(f"the two views must differ, got {view_a!r} twice")
+        self.views, self.check = (int(view_a), int(view_b)), tuple(int(k) for k in check)
+        self.real = chain(*self.views, self.check)
+        self.controls = {
+            "sigma": slider("added noise σ [px]", sigma, 0.0, 2.0, 0.05, fmt=".2f"),
+            "draw": slider("noise draw", draw, 0, 9, 1, fmt=".0f"),
+        }
+        self.live = LiveFigure((7.4, 3.1))
+        fig = self.live.figure
+        self._s0, self._rms = fig.add_subplot(1, 2, 1), fig.add_subplot(1, 2, 2)
+        fig.subplots_adjust(0.09, 0.16, 0.98, 0.9, wspace=0.32)
+        s = np.linspace(0, 2, 50)
+        s0 = np.hypot(self._real_sigma0(), s)
+        self._s0.plot(s, s0, "--", color="0.4", label="√(σ0,real² + σ²)")
+        self._s0.set(xlabel="added noise σ [px]", ylabel="σ0 [px]", xlim=(0, 2),
+                     ylim=(0, 2.2))
+        self._s0.set_title("resections' σ0", fontsize=9)
+        (self._s0_line,) = self._s0.plot([], [], "o-", color="tab:blue", ms=3,
+                                         label="σ0 (A and B pooled)")
+        self._s0.legend(loc="upper left", fontsize=7)
+        self._rms.set(xlabel="added noise σ [px]", ylabel="RMS [mm]", xlim=(0, 2))
+        self._rms.set_title("check points", fontsize=9)
+        (self._rms_line,) = self._rms.plot([], [], "o-", color="tab:red", ms=3,
+                                           label="RMS of the errors")
+        (self._pred_line,) = self._rms.plot([], [], "s--", color="tab:gray", ms=3,
+                                            label="predicted")
+        self._rms.legend(loc="upper left", fontsize=7)
+        self._marks = [self.live.animate(ax.axvline(0, color="tab:green", lw=1.2))
+                       for ax in (self._s0, self._rms)]
+        self._curve_draw = None
+        self.chain = None
+        self._finish()
+
+    def _real_sigma0(self) -> float:
+        return _pooled_sigma0(self.real)
+
+    def noise(self, sigma: float, draw: int) -> np.ndarray:
+        """(2, 54, 2) px: draw number ``draw`` of standard normal numbers, times ``sigma``."""
+        n = BOARD[0] * BOARD[1]
+        return float(sigma) * np.random.default_rng(1000 + int(draw)).standard_normal((2, n, 2))
+
+    def _curve(self, draw: int) -> None:
+        runs = [chain(*self.views, self.check, self.noise(s, draw)) for s in self.SIGMAS]
+        self._s0_line.set_data(self.SIGMAS, [_pooled_sigma0(c) for c in runs])
+        self._rms_line.set_data(self.SIGMAS, [c.rms for c in runs])
+        self._pred_line.set_data(self.SIGMAS, [c.predicted_rms for c in runs])
+        top = max(max(c.rms for c in runs), max(c.predicted_rms for c in runs))
+        self._rms.set_ylim(0, 1.15 * top)
+        self._curve_draw = draw
+        self.live.invalidate()
+
+    def draw(self, sigma, draw) -> str:
+        draw = int(draw)
+        if draw != self._curve_draw:
+            self._curve(draw)
+        self.chain = ch = chain(*self.views, self.check, self.noise(sigma, draw))
+        for mark in self._marks:
+            mark.set_xdata([sigma, sigma])
+        s0 = _pooled_sigma0(ch)
+        expect = float(np.hypot(self._real_sigma0(), sigma))
+        return (f"views {view_name(self.views[0])}, {view_name(self.views[1])}; "
+                f"added σ = {sigma:.2f} px (draw {draw})<br>"
+                f"resections' σ0 {s0:.3f} px (expected √({self._real_sigma0():.3f}² + "
+                f"{sigma:.2f}²) = {expect:.3f} px)<br>"
+                f"check-point RMS <b>{ch.rms:.3f} mm</b>, predicted {ch.predicted_rms:.3f} mm<br>"
+                f"without added noise: {self.real.rms:.3f} mm, predicted "
+                f"{self.real.predicted_rms:.3f} mm")
+
+
+def _pooled_sigma0(ch: Chain) -> float:
+    """σ0 of both resections pooled by redundancy, px."""
+    ra, rb = ch.resections
+    return float(np.sqrt((ra.sigma0**2 * ra.redundancy + rb.sigma0**2 * rb.redundancy)
+                         / (ra.redundancy + rb.redundancy)))
