@@ -14,8 +14,9 @@ The formulas are derived here (and checked with SymPy in the tests), not copied:
 
 Modules: :mod:`~photolib.measurement._log` (Laplacian of Gaussian, zero crossings),
 :mod:`~photolib.measurement._edges` (Sobel gradient, edge points),
-:mod:`~photolib.measurement._targets` (moment-preserving threshold, weighted centroid) and
-:mod:`~photolib.measurement._circle` (circle fit); every name is importable from
+:mod:`~photolib.measurement._targets` (moment-preserving threshold, weighted centroid),
+:mod:`~photolib.measurement._circle` (circle fit) and :mod:`~photolib.measurement._real`
+(targets in a real photograph: yellowness, TLS line, :func:`measure_targets`); every name is importable from
 :mod:`photolib.measurement`.
 """
 
@@ -28,6 +29,7 @@ from photolib.measurement._log import (
     log_kernel_1d,
     zero_crossings,
 )
+from photolib.measurement._real import RealTarget, fit_line_tls, measure_targets, yellowness
 from photolib.measurement._targets import (
     Centroid,
     MomentThreshold,
@@ -35,6 +37,7 @@ from photolib.measurement._targets import (
     weighted_centroid,
 )
 
-__all__ = ["Centroid", "CircleFit", "EdgePoints", "MomentThreshold", "edge_points", "fit_circle",
-           "gaussian_radius", "laplacian_of_gaussian", "log_filter", "log_kernel_1d",
-           "moment_threshold", "sobel_gradient", "weighted_centroid", "zero_crossings"]
+__all__ = ["Centroid", "CircleFit", "EdgePoints", "MomentThreshold", "RealTarget", "edge_points",
+           "fit_circle", "fit_line_tls", "gaussian_radius", "laplacian_of_gaussian", "log_filter",
+           "log_kernel_1d", "measure_targets", "moment_threshold", "sobel_gradient",
+           "weighted_centroid", "yellowness", "zero_crossings"]

@@ -51,6 +51,7 @@ def fit_line_tls(points):
     p = as_float_array(points, "points")
     if p.ndim != 2 or p.shape[1] != 2 or len(p) < 3:
         raise ValueError(f"points must be (N, 2) with N ≥ 3, got shape {p.shape}")
+    check_finite(p, "points")  # NaN/inf: a clear message, not SVD's "did not converge"
     m = p.mean(axis=0)
     _, sv, vt = np.linalg.svd(p - m, full_matrices=False)
     if sv[0] <= 1e-12:
