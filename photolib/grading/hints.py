@@ -21,7 +21,9 @@ import numpy as np
 from photolib.grading.spec import Mistake, Params
 
 __all__ = [
+    "ERRATUM_RULES",
     "MESSAGES",
+    "check_erratum_rules",
     "degrees_for_radians",
     "erratum_version",
     "generic_mistakes",
@@ -179,18 +181,44 @@ def erratum_version(record_id: str, evaluate, version: str = "old"):
     version : str
         Key of ``record.versions``; ``"old"`` is the print before the erratum.
 
-    When :mod:`photolib.errata` or the record is missing the rule quietly does not apply.
+    Without :mod:`photolib.errata` (a grader installed without the catalogue) the rule does
+    not apply. An unknown record or version is an error (``KeyError`` naming it), not a
+    silently missing hint: every rule is listed in :data:`ERRATUM_RULES`, and
+    :func:`check_erratum_rules` (run by the tests) looks each one up.
     """
+    ERRATUM_RULES.append((record_id, version))
+
     def wrong(params):
         try:
             # import_module honours sys.modules (a package attribute left by an earlier
             # import would not), so a missing catalogue really means no hint
             errata = importlib.import_module("photolib.errata")
-            expr = errata.get(record_id).versions[version]
-        except Exception:  # noqa: BLE001 - no catalogue, no hint
+        except ImportError:
             return None
-        return evaluate(expr, params)
+        return evaluate(_erratum_expression(errata, record_id, version), params)
     return Mistake("erratum", f"{MESSAGES['erratum']} ({record_id})", wrong)
+
+
+#: (record id, version) of every :func:`erratum_version` rule built so far
+ERRATUM_RULES: list = []
+
+
+def _erratum_expression(errata, record_id: str, version: str):
+    record = errata.get(record_id)                       # KeyError: "no errata record '…'"
+    if version not in record.versions:
+        raise KeyError(f"errata record {record_id!r} has no version {version!r}; it has "
+                       f"{sorted(record.versions)}")
+    return record.versions[version]
+
+
+def check_erratum_rules() -> int:
+    """Look up the record and version of every erratum rule built so far (import the exercise
+    modules first); raises ``KeyError`` naming the first that does not exist. Returns how many
+    rules were checked."""
+    errata = importlib.import_module("photolib.errata")
+    for record_id, version in ERRATUM_RULES:
+        _erratum_expression(errata, record_id, version)
+    return len(ERRATUM_RULES)
 
 
 def _negated_function(reference):

@@ -19,9 +19,12 @@ import os
 
 import numpy as np
 
-__all__ = ["PURPOSES", "aerial_camera", "close_range_camera", "rng_for"]
+__all__ = ["CHOICE_KEYS", "PURPOSES", "aerial_camera", "close_range_camera", "permuted_options",
+           "printed_letter", "rng_for"]
 
 PURPOSES = ("params", "public", "hidden")
+#: the letters of a multiple choice, in printed order
+CHOICE_KEYS = "abcd"
 
 
 def rng_for(student_id: str, exercise_id: str, purpose: str = "params") -> np.random.Generator:
@@ -66,3 +69,39 @@ def close_range_camera(rng: np.random.Generator) -> dict:
     """
     return {"c_mm": round(float(rng.uniform(8, 50)), 3),
             "h_m": round(float(rng.uniform(1, 60)), 2)}
+
+
+# -- multiple choice --------------------------------------------------------------------------------
+
+def permuted_options(rng: np.random.Generator, options) -> tuple[str, list[int]]:
+    """The options in a per-student order, as printed, and that order.
+
+    Returns ``("(a) …; (b) …", order)``: letter ``CHOICE_KEYS[i]`` is printed before
+    ``options[order[i]]``; so the letter of ``options[k]`` is ``CHOICE_KEYS[order.index(k)]``.
+
+    >>> permuted_options(np.random.default_rng(0), ["x", "y", "z"])
+    ('(a) z; (b) x; (c) y', [2, 0, 1])
+    """
+    options = [str(o) for o in options]
+    if not 2 <= len(options) <= len(CHOICE_KEYS):
+        raise ValueError(f"a choice needs 2 … {len(CHOICE_KEYS)} options, got {len(options)}")
+    order = [int(i) for i in rng.permutation(len(options))]
+    return "; ".join(f"({CHOICE_KEYS[i]}) {options[j]}" for i, j in enumerate(order)), order
+
+
+def printed_letter(options, index: int, field: str = "options"):
+    """``letter(p)``: the letter printed before ``options[index]`` in the text ``p[field]``
+    (read from the text, so the parameters hold no answer).
+
+    >>> text, _ = permuted_options(np.random.default_rng(0), ["x", "y", "z"])
+    >>> printed_letter(["x", "y", "z"], 1)({"options": text})
+    'c'
+    """
+    wanted = str(options[index])
+
+    def letter(p):
+        for item in p[field].split("; "):
+            if item[4:] == wanted:
+                return item[1]
+        raise LookupError(f"option {wanted!r} is not in the printed options {p[field]!r}")
+    return letter

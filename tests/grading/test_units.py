@@ -185,6 +185,27 @@ def test_erratum_hint_degrades_without_catalogue(monkeypatch):
     assert rule.wrong(Params()) is None
 
 
+def test_every_erratum_hint_names_a_record_and_version_that_exist():
+    """A mistyped record id or version is caught here, not silently dropped by the judge
+    (which skips a rule that raises)."""
+    chapters()                                    # imports every exercise module
+    assert hints.check_erratum_rules() >= 7
+    assert ("luhmann:4.18b", "old") in hints.ERRATUM_RULES
+
+
+def test_an_unknown_erratum_record_or_version_raises_naming_it(monkeypatch):
+    monkeypatch.setattr(hints, "ERRATUM_RULES", [])
+    bad = hints.erratum_version("luhmann:4.18b", lambda e, p: 1.0, version="olld")
+    with pytest.raises(KeyError, match="'olld'.*'corrected'"):
+        bad.wrong(Params())
+    with pytest.raises(KeyError, match="olld"):
+        hints.check_erratum_rules()
+    bad = hints.erratum_version("luhmann:4.18x", lambda e, p: 1.0)
+    with pytest.raises(KeyError, match="luhmann:4.18x"):
+        bad.wrong(Params())
+    assert hints.ERRATUM_RULES == [("luhmann:4.18b", "olld"), ("luhmann:4.18x", "old")]
+
+
 def test_registry_is_consistent():
     ids = [ex.id for exs in chapters().values() for ex in exs]
     assert len(ids) == len(set(ids))

@@ -11,7 +11,7 @@ import numpy as np
 
 from photolib.grading import hints
 from photolib.grading.spec import PRINTED, Exercise, Mistake
-from photolib.grading.variants import aerial_camera, close_range_camera
+from photolib.grading.variants import CHOICE_KEYS, aerial_camera, close_range_camera, permuted_options
 
 CHAPTER = "00-start"
 
@@ -120,10 +120,8 @@ _OPTIONS = ("its transpose Rᵀ", "its negative −R", "R itself", "det(R)·R²"
 
 
 def _choice_params(rng):
-    order = [int(i) for i in rng.permutation(len(_OPTIONS))]
-    keys = "abcd"
-    text = "; ".join(f"({keys[i]}) {_OPTIONS[j]}" for i, j in enumerate(order))
-    return {"options": text, "correct": keys[order.index(0)]}
+    text, order = permuted_options(rng, _OPTIONS)
+    return {"options": text, "correct": CHOICE_KEYS[order.index(0)]}
 
 
 inverse_choice = Exercise(
@@ -133,7 +131,7 @@ inverse_choice = Exercise(
     answer="choice_inverse",
     statement="The inverse of a rotation matrix R is {options}. Set the answer to the letter.",
     parameters=_choice_params, reference=lambda p: p["correct"],
-    choices=dict(zip("abcd", _OPTIONS)))
+    choices=dict(zip(CHOICE_KEYS, _OPTIONS)))
 
 
 EXERCISES = (image_scale, rotation_2d, rotation_x, rotation_x_symbolic, scale_function,

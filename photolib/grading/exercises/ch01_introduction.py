@@ -16,26 +16,16 @@ from __future__ import annotations
 import math
 
 from photolib.grading.spec import PRINTED, Exercise, Mistake
-from photolib.grading.variants import aerial_camera
+from photolib.grading.variants import CHOICE_KEYS, aerial_camera, permuted_options, printed_letter
 
 CHAPTER = "01-introduction"
-_KEYS = "abcd"
 
 
 def _permuted(rng, options):
-    """The options in a per-student order, as printed: ``(a) …; (b) …``."""
-    order = [int(i) for i in rng.permutation(len(options))]
-    return "; ".join(f"({_KEYS[i]}) {options[j]}" for i, j in enumerate(order))
+    return permuted_options(rng, options)[0]
 
 
-def _letter(options, index):
-    """The letter printed before ``options[index]`` (read from the text: no answer in ``p``)."""
-    def letter(p):
-        for item in p["options"].split("; "):
-            if item[4:] == options[index]:
-                return item[1]
-        raise LookupError(options[index])
-    return letter
+_letter = printed_letter
 
 
 # -- 1. classes (choice) --------------------------------------------------------------------------
@@ -72,7 +62,7 @@ classes = Exercise(
     title="Classes of photogrammetry / Einteilung",
     statement="Task: {task}. Which class of photogrammetry by the number of images is this: "
               "{options}? Set the answer to the letter.",
-    parameters=_classes_params, reference=_class_key, choices=dict(zip(_KEYS, _CLASSES)),
+    parameters=_classes_params, reference=_class_key, choices=dict(zip(CHOICE_KEYS, _CLASSES)),
     mistakes=(
         Mistake("class-single", "single-image photogrammetry works with one image: planes, or "
                                 "points on a known surface", _wrong_class(0)),
@@ -102,7 +92,7 @@ history = Exercise(
     statement="When and where was the International Society for Photogrammetry (ISP, today "
               "ISPRS) founded: {options}? Set the answer to the letter.",
     parameters=_history_params, reference=_letter(_HISTORY, 0),
-    choices=dict(zip(_KEYS, _HISTORY)),
+    choices=dict(zip(CHOICE_KEYS, _HISTORY)),
     mistakes=(
         Mistake("meydenbauer", "1858 in Wetzlar is Meydenbauer's idea at the cathedral, half a "
                                "century before the society", _letter(_HISTORY, 1)),

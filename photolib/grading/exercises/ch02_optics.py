@@ -28,6 +28,7 @@ import numpy as np
 
 from photolib.grading import hints
 from photolib.grading.spec import PRINTED, Exercise, Mistake
+from photolib.grading.variants import CHOICE_KEYS, permuted_options, printed_letter
 
 CHAPTER = "02-optics"
 
@@ -295,21 +296,14 @@ _OPTIONS = (
 
 
 def _choice_params(rng):
-    order = [int(i) for i in rng.permutation(len(_OPTIONS))]
-    keys = "abcd"
-    text = "; ".join(f"({keys[i]}) {_OPTIONS[j]}" for i, j in enumerate(order))
+    text, _ = permuted_options(rng, _OPTIONS)
     k = float(rng.choice(_STOPS[1:5]))
     return {"k": k, "k2": 2 * k, "options": text}
 
 
 def _stop_letter(index):
     """The letter printed before ``_OPTIONS[index]`` (read from the text: no answer in ``p``)."""
-    def letter(p):
-        for item in p["options"].split("; "):
-            if item[4:] == _OPTIONS[index]:
-                return item[1]
-        raise LookupError(_OPTIONS[index])
-    return letter
+    return printed_letter(_OPTIONS, index)
 
 
 stop_down = Exercise(
@@ -321,7 +315,7 @@ stop_down = Exercise(
               "the f-number) and keeps the focus. Which is right? {options}. Set the answer "
               "to the letter.",
     parameters=_choice_params, reference=_stop_letter(0),
-    choices=dict(zip("abcd", _OPTIONS)),
+    choices=dict(zip(CHOICE_KEYS, _OPTIONS)),
     mistakes=(
         Mistake("stop", "a larger k means a smaller pupil d = f/k: the light cones get "
                         "narrower, so the depth of field grows; diffraction grows with k "

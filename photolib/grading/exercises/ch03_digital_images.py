@@ -19,7 +19,7 @@ from __future__ import annotations
 import math
 
 from photolib.grading.spec import PRINTED, Exercise, Mistake
-from photolib.grading.variants import aerial_camera
+from photolib.grading.variants import CHOICE_KEYS, aerial_camera, permuted_options, printed_letter
 
 CHAPTER = "03-digital-images"
 
@@ -182,19 +182,12 @@ _BAYER_OPTIONS = ("one half", "one quarter", "one third", "three quarters")
 
 
 def _bayer_params(rng):
-    order = [int(i) for i in rng.permutation(len(_BAYER_OPTIONS))]
-    keys = "abcd"
-    return {"options": "; ".join(f"({keys[i]}) {_BAYER_OPTIONS[j]}" for i, j in enumerate(order))}
+    return {"options": permuted_options(rng, _BAYER_OPTIONS)[0]}
 
 
 def _option(index):
     """The letter printed before option ``index`` (read from the text: no answer in ``p``)."""
-    def letter(p):
-        for item in p["options"].split("; "):
-            if item[4:] == _BAYER_OPTIONS[index]:
-                return item[1]
-        raise LookupError(_BAYER_OPTIONS[index])
-    return letter
+    return printed_letter(_BAYER_OPTIONS, index)
 
 
 bayer_green = Exercise(
@@ -205,7 +198,7 @@ bayer_green = Exercise(
     statement="A colour camera has a Bayer filter mosaic (RGGB). Which share of its pixels "
               "carries a green filter: {options}? Set the answer to the letter.",
     parameters=_bayer_params, reference=_option(0),
-    choices=dict(zip("abcd", _BAYER_OPTIONS)),
+    choices=dict(zip(CHOICE_KEYS, _BAYER_OPTIONS)),
     mistakes=(
         Mistake("bayer-quarter", "a quarter are red and a quarter blue; each 2 × 2 block has "
                                  "two green pixels", _option(1)),

@@ -31,6 +31,7 @@ import numpy as np
 
 from photolib.grading.judge import rounding_tolerance
 from photolib.grading.spec import PRINTED, Exercise, Mistake
+from photolib.grading.variants import CHOICE_KEYS, permuted_options
 
 CHAPTER = "10-bundle-adjustment"
 
@@ -139,10 +140,8 @@ def _sum_params(rng):
         if len(set(values.values())) == len(values):
             break
         points += 1
-    order = [int(i) for i in rng.permutation(len(_SUMS))]
-    keys = "abcd"
-    text = "; ".join(f"({keys[i]}) {values[_SUMS[j]]}" for i, j in enumerate(order))
-    letter = {name: keys[order.index(k)] for k, name in enumerate(_SUMS)}
+    text, order = permuted_options(rng, [values[name] for name in _SUMS])
+    letter = {name: CHOICE_KEYS[order.index(k)] for k, name in enumerate(_SUMS)}
     return {"n": n, "images": images, "points": points, "options": text,
             "correct": letter["n − u + d"], "forgot_d": letter["n − u"], "all_one": letter["n"],
             "unknowns": letter["u"]}
