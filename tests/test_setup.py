@@ -125,7 +125,8 @@ def test_installed_versions_are_the_locked_ones():
 def test_make_installs_from_the_lock():
     make = (ROOT / "Makefile").read_text(encoding="utf-8")
     installs = [line for line in make.splitlines() if "pip install" in line and "-e '." in line]
-    assert len(installs) == 3, installs     # the course, the test extras, the hub's environment
+    # the course, the test extras, the website's extra and the hub's environment
+    assert len(installs) == 4, installs
     assert all("-c $(LOCK)" in line for line in installs), installs
     assert re.search(r"^LOCK\s*:=\s*constraints\.txt$", make, re.M)
     assert re.search(r"^\$\(VENV\)/\.test-installed: pyproject\.toml \$\(LOCK\)", make, re.M)
