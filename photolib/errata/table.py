@@ -4,7 +4,7 @@ Why: recomputing every verdict of the catalogue takes some 20 s (SymPy derivatio
 50 digits, the checks of the examples), and the errata chapter must open in seconds. So the
 verdicts are computed once, by ``python -m photolib errata --write-table`` (or ``make regen``),
 into the package data ``photolib/data/errata-verdicts.json``, which is committed and read by the
-chapter and its interactive table (:class:`photolib.errata.widgets.VerdictExplorer`).
+chapter and its interactive table (:class:`photolib.nb.errata.VerdictExplorer`).
 
 How it is kept honest, as ``photolib/_generated`` is (``tests/test_codegen.py``):
 ``tests/errata/test_verdict_table.py`` recomputes every verdict and its evidence from the

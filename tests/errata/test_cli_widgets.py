@@ -7,7 +7,9 @@ import sys
 
 import pytest
 
-from photolib.errata import cli, widgets
+from photolib.errata import cli
+from photolib.errata import evaluate as widgets
+from photolib.nb import errata as nb_errata
 
 
 def test_json_schema(capsys):
@@ -64,9 +66,21 @@ def test_widget_callback_and_builder():
     assert vals["old"] == pytest.approx(0.0, abs=1e-15)      # old zero crossing at r = σ²
     with pytest.raises(ValueError, match="no value"):
         widgets.evaluate_versions("luhmann:5.42", {"r": 1.0})
-    box = widgets.build_widget("luhmann:2.86", 0.1, 3.0)
+    box = nb_errata.build_widget("luhmann:2.86", 0.1, 3.0)
     sliders = [c for c in box.children if hasattr(c, "continuous_update")]
     assert len(sliders) == 4
     before = box.children[-1].value
     sliders[0].value = 2.5
     assert box.children[-1].value != before and "derived" in box.children[-1].value
+
+
+def test_the_old_widgets_module_still_imports_with_a_deprecation_warning():
+    """photolib.errata.widgets moved (callbacks → photolib.errata.evaluate, widgets →
+    photolib.nb.errata): the old names still work for one release, with a warning."""
+    import photolib.errata.widgets as old
+    with pytest.warns(DeprecationWarning, match="photolib.errata.evaluate.evaluate_versions"):
+        assert old.evaluate_versions is widgets.evaluate_versions
+    with pytest.warns(DeprecationWarning, match="photolib.nb.errata.VerdictExplorer"):
+        assert old.VerdictExplorer is nb_errata.VerdictExplorer
+    with pytest.raises(AttributeError, match="no_such_name"):
+        old.no_such_name  # noqa: B018

@@ -15,7 +15,9 @@ import json
 import pytest
 
 from photolib import errata
-from photolib.errata import cli, table, widgets
+from photolib.errata import cli, table
+from photolib.errata import evaluate as widgets
+from photolib.nb import errata as nb_errata
 
 COMMITTED = table.TABLE_PATH
 
@@ -169,7 +171,7 @@ def test_bad_filters_are_named(kw, match):
 
 
 def test_explorer_updates_on_every_control():
-    ex = widgets.VerdictExplorer()
+    ex = nb_errata.VerdictExplorer()
     assert repr(ex.widget) == "[widget: errata verdicts]"
     everything = ex.html.value
     ex.controls["source"].value = "pl-notes"

@@ -8,7 +8,8 @@ import sympy as sp
 
 from photolib import errata
 from photolib.derive import image_processing as ip
-from photolib.errata import widgets
+from photolib.errata import evaluate as widgets
+from photolib.nb import errata as nb_errata
 from photolib.errata.cli import describe
 
 CAT = errata.catalogue()
@@ -25,7 +26,7 @@ def test_every_record_evaluates_or_says_why(rid):
     raises the ValueError naming the record and the reason; the widget builds either way."""
     rec = errata.get(rid)
     reason = widgets.not_evaluable_reason(rec)
-    box = widgets.build_widget(rid)
+    box = nb_errata.build_widget(rid)
     texts = [c.value for c in box.children if not hasattr(c, "continuous_update")]
     sliders = [c for c in box.children if hasattr(c, "continuous_update")]
     assert texts[0].startswith(f"<b>{rid}</b>")
@@ -52,7 +53,7 @@ def test_every_record_evaluates_or_says_why(rid):
 def test_reported_records_give_the_clear_message(rid):
     with pytest.raises(ValueError, match=rf"{rid} cannot be evaluated at numbers: no derivation"):
         widgets.evaluate_versions(rid, {})
-    box = widgets.build_widget(rid)
+    box = nb_errata.build_widget(rid)
     assert "cannot be evaluated at numbers: no derivation" in box.children[-1].value
 
 
@@ -67,7 +68,7 @@ def test_own_target_shown():
     vals = widgets.evaluate_versions("luhmann:2.19", _defaults(rec))
     assert "target (old)" in vals
     assert vals["corrected"] == pytest.approx(vals["derived"], rel=1e-12)
-    assert "target" in widgets.build_widget("luhmann:2.19").children[1].value
+    assert "target" in nb_errata.build_widget("luhmann:2.19").children[1].value
 
 
 # ---- luhmann:5.73 ------------------------------------------------------------------------
@@ -201,7 +202,7 @@ def test_221_projectivity_is_not_affine_so_the_residual_tests_something():
 
 
 def test_221_widget_text_explains_the_comparison():
-    box = widgets.build_widget("luhmann:2.21", 0.1, 3.0)
+    box = nb_errata.build_widget("luhmann:2.21", 0.1, 3.0)
     note = box.children[1].value
     assert "residual" in note and "λ course" in note and "t ↦" in note
     out = box.children[-1].value
