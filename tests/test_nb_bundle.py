@@ -254,3 +254,19 @@ def test_blunder_report_cache_is_the_adjustment_of_those_inputs():
     other = nbb.blunder_report(38.0, 120)
     assert other["result"] is not rep["result"]
     assert other["result"].sigma0 != rep["result"].sigma0
+
+
+def test_standard_ellipses_are_the_one_sigma_contours():
+    """Every outline point x satisfies xᵀ·Σ⁻¹·x = scale² (the 1σ contour), for a stack of
+    random covariances; and the single-matrix form is the stack's first."""
+    from photolib.nb.bundle import standard_ellipses
+    rng = np.random.default_rng(3)
+    A = rng.normal(size=(5, 2, 2))
+    cov = A @ A.transpose(0, 2, 1) + 0.1 * np.eye(2)
+    ell = standard_ellipses(cov, scale=3.0, n=17)
+    assert ell.shape == (5, 17, 2)
+    q = np.einsum("mni,mij,mnj->mn", ell, np.linalg.inv(cov), ell)
+    np.testing.assert_allclose(q, 9.0, rtol=1e-12)
+    np.testing.assert_array_equal(standard_ellipses(cov[0], 3.0, 17), ell[0])
+    with pytest.raises(ValueError, match=r"\(3, 3\)"):
+        standard_ellipses(np.eye(3))

@@ -48,20 +48,11 @@ __all__ = [
     "stereo",
 ]
 
-#: distribution → (minimum version, the module to import), for :func:`check_environment`
-REQUIREMENTS = {
-    "numpy": ((2, 1), "numpy"),
-    "sympy": ((1, 14), "sympy"),
-    "matplotlib": ((3, 9), "matplotlib"),
-    "ipywidgets": ((8, 1), "ipywidgets"),
-}
-
-#: distribution → first version not tested (the upper pins of pyproject.toml): the committed
-#: outputs (SymPy's printing, NumPy's reprs) were made below it
-TESTED_BELOW = {
-    "numpy": (3,),
-    "sympy": (1, 15),
-}
+#: the distributions :func:`setup` checks (each imports under its own name)
+COURSE_DISTRIBUTIONS = ("numpy", "sympy", "matplotlib", "ipywidgets")
+#: of these, the ones whose upper pin matters for the committed outputs (SymPy's printing,
+#: NumPy's reprs): a newer version is reported
+OUTPUT_PINNED = ("numpy", "sympy")
 
 
 def _version_tuple(text: str) -> tuple:
@@ -72,6 +63,48 @@ def _version_tuple(text: str) -> tuple:
     return tuple(parts)
 
 
+def _pins(requires) -> dict:
+    """distribution → (lower, upper) version tuples (``None`` where not pinned) from the
+    requirement strings of photolib's metadata (``"numpy<3,>=2.1"``, markers ignored).
+
+    >>> _pins(["numpy<3,>=2.1", 'ipywidgets<9,>=8.1; extra == "course"', "scipy>=1.13"])
+    {'numpy': ((2, 1), (3,)), 'ipywidgets': ((8, 1), (9,)), 'scipy': ((1, 13), None)}
+    """
+    import re
+
+    out = {}
+    for line in requires:
+        spec = line.split(";")[0].strip()
+        m = re.match(r"([A-Za-z0-9_.-]+)(\[[^\]]*\])?\s*(.*)", spec)
+        name, clauses = m.group(1).lower(), m.group(3)
+        low = re.search(r">=\s*([\d.]+)", clauses)
+        high = re.search(r"(?<![<>=!])<\s*([\d.]+)", clauses)
+        if name in out or not (low or high):
+            continue
+        out[name] = (_version_tuple(low.group(1)) if low else None,
+                     tuple(int(v) for v in high.group(1).split(".")) if high else None)
+    return out
+
+
+def _requirements() -> tuple[dict, dict]:
+    """The pins of pyproject.toml, read from the installed package's metadata (one source):
+    ``REQUIREMENTS`` (distribution → (minimum, module)) and ``TESTED_BELOW`` (distribution →
+    first version not tested). Empty when photolib is not installed as a distribution."""
+    try:
+        pins = _pins(metadata.requires("photolib") or [])
+    except metadata.PackageNotFoundError:
+        return {}, {}
+    req = {d: (pins[d][0], d) for d in COURSE_DISTRIBUTIONS if d in pins and pins[d][0]}
+    below = {d: pins[d][1] for d in OUTPUT_PINNED if d in pins and pins[d][1]}
+    return req, below
+
+
+#: distribution → (minimum version, the module to import), for :func:`check_environment`
+#: distribution → first version not tested (the upper pins of pyproject.toml): the committed
+#: outputs were made below it. Both from the installed metadata of photolib (pyproject.toml).
+REQUIREMENTS, TESTED_BELOW = _requirements()
+
+
 def check_environment() -> list[str]:
     """Problems with the installation, as sentences; an empty list when all is well.
 
@@ -79,6 +112,9 @@ def check_environment() -> list[str]:
     []
     """
     problems = []
+    if not REQUIREMENTS:
+        problems.append("photolib is not installed as a package, so its requirements are "
+                        "unknown: run make lab (or pip install -c constraints.txt -e '.[course]')")
     for dist, (minimum, module) in REQUIREMENTS.items():
         try:
             version = metadata.version(dist)

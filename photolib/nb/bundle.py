@@ -37,6 +37,7 @@ __all__ = [
     "control_order",
     "plot_block",
     "plot_ellipses",
+    "standard_ellipses",
     "plot_reliability",
     "plot_sparsity",
     "precision_report",
@@ -516,10 +517,24 @@ def plot_reliability(report, title="internal reliability: minimal detectable blu
     return finished(fig)
 
 
-def _ellipse(cov2, scale, n=41):
+def standard_ellipses(cov2, scale: float = 1.0, n: int = 41) -> np.ndarray:
+    """Outlines of the standard (1σ) ellipses of 2 × 2 covariance matrices, ``scale`` times
+    enlarged, about the origin: ``cov2`` (m, 2, 2) → (m, n, 2) (or (2, 2) → (n, 2)).
+
+    ``Σ = V·diag(λ)·Vᵀ`` (``eigh``): the outline is ``V·diag(√λ)·(cos t, sin t)``, semi-axes
+    √λ₁, √λ₂ along the eigenvectors (a negative rounding of λ counts as 0).
+
+    >>> e = standard_ellipses(np.diag([4.0, 1.0]), n=5)
+    >>> np.round(np.abs(e).max(axis=0), 12).tolist()
+    [2.0, 1.0]
+    """
+    cov2 = np.asarray(cov2, dtype=float)
+    if cov2.shape[-2:] != (2, 2):
+        raise ValueError(f"cov2 must be (m, 2, 2) or (2, 2), got shape {cov2.shape}")
     w, V = np.linalg.eigh(cov2)
-    t = np.linspace(0, 2 * np.pi, n)
-    return (V @ (np.sqrt(np.maximum(w, 0))[:, None] * np.vstack([np.cos(t), np.sin(t)]))).T * scale
+    t = np.linspace(0.0, 2.0 * np.pi, n)
+    circle = np.stack([np.cos(t), np.sin(t)])
+    return np.swapaxes(V @ (np.sqrt(np.maximum(w, 0.0))[..., None] * circle), -1, -2) * scale
 
 
 def plot_ellipses(block: Block, result, control=(), scale: float = 1000.0,
@@ -530,7 +545,7 @@ def plot_ellipses(block: Block, result, control=(), scale: float = 1000.0,
     fig, ax = plt.subplots(figsize=(5.8, 4.2))
     pts = result.points
     sz = result.point_std[:, 2] * 1e3
-    segs = [pts[p, :2] + _ellipse(result.point_covariance[p, :2, :2], scale)
+    segs = [pts[p, :2] + standard_ellipses(result.point_covariance[p, :2, :2], scale)
             for p in range(len(pts)) if p not in set(np.asarray(control, int).tolist())]
     for s in segs:
         ax.plot(*s.T, color="#1f77b4", lw=0.8)
@@ -733,11 +748,7 @@ class PrecisionExplorer(Explorer):
             self._ellipses.set_data([], [])
             self._dots.set_array(np.full(len(pts), np.nan))
             return rep["html"]
-        w, V = np.linalg.eigh(rep["cov"][:, :2, :2])
-        t = np.linspace(0.0, 2.0 * np.pi, 25)
-        circle = np.stack([np.cos(t), np.sin(t)])
-        ell = (V @ (np.sqrt(np.maximum(w, 0.0))[:, :, None] * circle)) * self.scale
-        ell = ell.transpose(0, 2, 1) + pts[:, None, :2]
+        ell = standard_ellipses(rep["cov"][:, :2, :2], self.scale, n=25) + pts[:, None, :2]
         keep = np.setdiff1d(np.arange(len(pts)), rep["control"])
         seg = np.concatenate([ell[keep], np.full((len(keep), 1, 2), np.nan)], axis=1)
         self._ellipses.set_data(*seg.reshape(-1, 2).T)
