@@ -23,7 +23,7 @@ import numpy as np
 from photolib.grading.encode import NONE, NOT_ANSWERED, Raised, Unsupported, unanswered
 from photolib.grading.hints import MESSAGES, generic_mistakes
 
-__all__ = ["FunctionOutputs", "Judgement", "compare", "judge", "printed_half_units",
+__all__ = ["COMPARATORS", "Comparison", "FunctionOutputs", "Judgement", "compare", "judge", "printed_half_units",
            "printed_tolerance", "propagated_atol", "rounding_tolerance"]
 
 
@@ -534,100 +534,168 @@ def _numeric_matrix(answer, expected_ndim: int):
     return values
 
 
-def compare(exercise, answer, expected, params, tolerances=None) -> tuple[bool, str]:
-    """Does ``answer`` equal ``expected`` for this exercise's kind? Returns ``(ok, reason)``.
+@dataclass(frozen=True)
+class Comparison:
+    """One comparison of an answer with a value: the verdict, the gradebook tag of a wrong
+    answer and the reason the student reads, decided together by the comparator.
+
+    It unpacks as ``ok, reason`` (the form :func:`compare` always returned).
+
+    >>> ok, reason = Comparison(False, "shape", "expected shape (3,), got (2,)")
+    >>> ok, reason
+    (False, 'expected shape (3,), got (2,)')
+    """
+
+    ok: bool
+    tag: str = "other"
+    message: str = ""
+
+    def __iter__(self):
+        return iter((self.ok, self.message))
+
+
+_SAME = Comparison(True, "", "")
+
+
+def _wrong(tag: str, message: str = "") -> Comparison:
+    return Comparison(False, tag, message)
+
+
+def _match(ok: bool) -> Comparison:
+    return _SAME if ok else _wrong("other")
+
+
+def _compare_number(exercise, answer, expected, rtol, atol) -> Comparison:
+    answer = _as_number(answer)
+    if not isinstance(answer, float):
+        return _wrong("type", f"expected a number, got {_describe(answer)}")
+    return _match(_numbers_match(answer, expected, rtol, atol))
+
+
+def _compare_array(exercise, answer, expected, rtol, atol) -> Comparison:
+    answer = _numeric_matrix(answer, np.ndim(expected))
+    if not isinstance(answer, np.ndarray):
+        return _wrong("type", f"expected an array, got {_describe(answer)}")
+    expected = np.asarray(expected, float)
+    if answer.shape != expected.shape:
+        return _wrong("shape", f"expected shape {expected.shape}, got {answer.shape}")
+    if not np.all(np.isfinite(answer)):
+        return _wrong("other", "the array contains NaN or infinity")
+    if exercise.kind == "rotation":
+        n = answer.shape[0]
+        err = float(np.max(np.abs(answer.T @ answer - np.eye(n))))
+        if err > 1e-6:
+            return _wrong("not-orthonormal", f"not a rotation matrix: max |RᵀR − I| = {err:.2g}")
+        if np.linalg.det(answer) < 0:
+            return _wrong("reflection", "det R = −1: a reflection, not a rotation")
+    return _match(_numbers_match(answer, expected, rtol, atol))
+
+
+def _compare_expression(exercise, answer, expected, rtol, atol) -> Comparison:
+    import sympy as sp
+    if isinstance(answer, str):
+        answer = _parse_formula(exercise, answer)
+    if not isinstance(answer, (sp.Basic, sp.MatrixBase, float)):
+        return _wrong("type", f"expected a SymPy expression, got {_describe(answer)}")
+    if isinstance(answer, float):
+        answer = sp.Float(answer)
+    if answer.has(sp.nan, sp.zoo, sp.oo, sp.S.NegativeInfinity):
+        # not for symcheck, which calls such a comparison undecided (instructor's note)
+        return _wrong("other", "the expression is not finite (NaN or infinity: a division by "
+                               "zero?)")
+    positive = {sp.Symbol(name): (0.2, 3.0) for name in exercise.positive}
+    verdict = _expression_verdict(plain_symbols(answer), plain_symbols(expected), positive)
+    if verdict == "undecided":
+        return _wrong("undecided",
+                      "equivalence could not be decided; the instructor will look at it")
+    if verdict == "equal-under-condition":
+        names = ", ".join(s for s in exercise.symbols if s not in exercise.positive)
+        return _wrong("sign-domain", "equal only when the symbols are positive, but "
+                      + (names or "the symbols") + " may be negative here")
+    return _match(verdict == "equal")
+
+
+def _compare_output(got, want, rtol, atol) -> Comparison | None:
+    """One test input of a function answer; ``None`` when it is right."""
+    if isinstance(want, Raised):      # a degenerate input: the answer is an error
+        if isinstance(got, Raised) and got.value_error:
+            return None
+        if isinstance(got, Raised):
+            return _wrong("raised", f"for a degenerate input ({want.message}) your function "
+                                    f"raised {got.type_name}; raise ValueError saying what is "
+                                    f"wrong with the input")
+        return _wrong("degenerate", f"a degenerate input ({want.message}) has no answer: "
+                                    f"your function returned {_describe(got)} instead of "
+                                    f"raising ValueError")
+    if isinstance(got, Raised):
+        return _wrong("raised", f"your function raised {got.type_name}: {got.message}")
+    if got is NONE:
+        return _wrong("type", "the function returned None: is its return statement missing?")
+    if got is NOT_ANSWERED or isinstance(got, (str, bool, Unsupported, list)):
+        return _wrong("type", f"the function returned {_describe(got)}")
+    # a SymPy number or numeric Matrix is read as for number and array answers
+    got = _numeric_matrix(_as_number(got), np.ndim(want))
+    if not isinstance(got, (float, np.ndarray)):
+        return _wrong("type", f"the function returned {_describe(got)}")
+    if np.shape(got) != np.shape(want):
+        return _wrong("shape", f"the function returned shape {np.shape(got)}, "
+                               f"expected shape {np.shape(want)}")
+    if not _numbers_match(got, want, rtol, atol):
+        return _wrong("other")
+    return None
+
+
+def _compare_function(exercise, answer, expected, rtol, atol) -> Comparison:
+    if not isinstance(answer, FunctionOutputs):
+        return _wrong("type", "expected a function")
+    if answer.error:
+        # the kernel side reports what went wrong as text: "your function raised …", a time
+        # limit, an unreadable value
+        tag = "raised" if answer.error.startswith("your function raised") else "other"
+        return _wrong(tag, answer.error)
+    if len(answer.outputs) != len(expected):
+        return _wrong("other", "the function did not answer every test input")
+    per_input = atol if isinstance(atol, list) else [atol] * len(expected)
+    for got, want, atol_k in zip(answer.outputs, expected, per_input):
+        wrong = _compare_output(got, want, rtol, atol_k)
+        if wrong is not None:
+            return wrong
+    return _SAME
+
+
+def _compare_choice(exercise, answer, expected, rtol, atol) -> Comparison:
+    if not isinstance(answer, str):
+        return _wrong("type", f"expected an option key such as 'a', got {_describe(answer)}")
+    # "b", "B", "(b)", "b)", "b." and "'b'" (quotes typed inside the string) are all b
+    key = answer.strip().lower().strip("()[].:'\" \t")
+    if key not in {str(k).lower() for k in exercise.choices}:
+        return _wrong("type", "expected the letter of one option, such as 'a'")
+    return _match(key == str(expected).lower())
+
+
+#: one comparator per answer kind: ``(exercise, answer, expected, rtol, atol) → Comparison``
+COMPARATORS = {
+    "number": _compare_number,
+    "array": _compare_array,
+    "rotation": _compare_array,
+    "expression": _compare_expression,
+    "function": _compare_function,
+    "choice": _compare_choice,
+}
+
+
+def compare(exercise, answer, expected, params, tolerances=None) -> Comparison:
+    """Does ``answer`` equal ``expected`` for this exercise's kind? A :class:`Comparison`
+    (unpacks as ``ok, reason``) from the kind's comparator in :data:`COMPARATORS`.
 
     ``tolerances`` is ``(rtol, atol)`` when the caller has it already (default: the
     exercise's for ``params``); for a function ``atol`` may be a list, one per test input.
     """
+    comparator = COMPARATORS.get(exercise.kind)
+    if comparator is None:
+        raise ValueError(f"unknown answer kind {exercise.kind!r}")
     rtol, atol = exercise.tolerances(params) if tolerances is None else tolerances
-    kind = exercise.kind
-    if kind == "number":
-        answer = _as_number(answer)
-        if not isinstance(answer, float):
-            return False, f"expected a number, got {_describe(answer)}"
-        return _numbers_match(answer, expected, rtol, atol), ""
-    if kind in ("array", "rotation"):
-        answer = _numeric_matrix(answer, np.ndim(expected))
-        if not isinstance(answer, np.ndarray):
-            return False, f"expected an array, got {_describe(answer)}"
-        expected = np.asarray(expected, float)
-        if answer.shape != expected.shape:
-            return False, f"expected shape {expected.shape}, got {answer.shape}"
-        if not np.all(np.isfinite(answer)):
-            return False, "the array contains NaN or infinity"
-        if kind == "rotation":
-            n = answer.shape[0]
-            err = float(np.max(np.abs(answer.T @ answer - np.eye(n))))
-            if err > 1e-6:
-                return False, f"not a rotation matrix: max |RᵀR − I| = {err:.2g}"
-            if np.linalg.det(answer) < 0:
-                return False, "det R = −1: a reflection, not a rotation"
-        return _numbers_match(answer, expected, rtol, atol), ""
-    if kind == "expression":
-        import sympy as sp
-        if isinstance(answer, str):
-            answer = _parse_formula(exercise, answer)
-        if not isinstance(answer, (sp.Basic, sp.MatrixBase, float)):
-            return False, f"expected a SymPy expression, got {_describe(answer)}"
-        if isinstance(answer, float):
-            answer = sp.Float(answer)
-        if answer.has(sp.nan, sp.zoo, sp.oo, sp.S.NegativeInfinity):
-            # not for symcheck, which calls such a comparison undecided (instructor's note)
-            return False, "the expression is not finite (NaN or infinity: a division by zero?)"
-        positive = {sp.Symbol(name): (0.2, 3.0) for name in exercise.positive}
-        verdict = _expression_verdict(plain_symbols(answer), plain_symbols(expected), positive)
-        if verdict == "undecided":
-            return False, "equivalence could not be decided; the instructor will look at it"
-        if verdict == "equal-under-condition":
-            names = ", ".join(s for s in exercise.symbols if s not in exercise.positive)
-            return False, ("equal only when the symbols are positive, but "
-                           + (names or "the symbols") + " may be negative here")
-        return verdict == "equal", ""
-    if kind == "function":
-        if not isinstance(answer, FunctionOutputs):
-            return False, "expected a function"
-        if answer.error:
-            return False, answer.error
-        if len(answer.outputs) != len(expected):
-            return False, "the function did not answer every test input"
-        per_input = atol if isinstance(atol, list) else [atol] * len(expected)
-        for got, want, atol in zip(answer.outputs, expected, per_input):
-            if isinstance(want, Raised):      # a degenerate input: the answer is an error
-                if isinstance(got, Raised) and got.value_error:
-                    continue
-                if isinstance(got, Raised):
-                    return False, (f"for a degenerate input ({want.message}) your function "
-                                   f"raised {got.type_name}; raise ValueError saying what is "
-                                   f"wrong with the input")
-                return False, (f"a degenerate input ({want.message}) has no answer: your "
-                               f"function returned {_describe(got)} instead of raising "
-                               f"ValueError")
-            if isinstance(got, Raised):
-                return False, f"your function raised {got.type_name}: {got.message}"
-            if got is NONE:
-                return False, "the function returned None: is its return statement missing?"
-            if got is NOT_ANSWERED or isinstance(got, (str, bool, Unsupported, list)):
-                return False, f"the function returned {_describe(got)}"
-            # a SymPy number or numeric Matrix is read as for number and array answers
-            got = _numeric_matrix(_as_number(got), np.ndim(want))
-            if not isinstance(got, (float, np.ndarray)):
-                return False, f"the function returned {_describe(got)}"
-            if np.shape(got) != np.shape(want):
-                return False, (f"the function returned shape {np.shape(got)}, "
-                               f"expected shape {np.shape(want)}")
-            if not _numbers_match(got, want, rtol, atol):
-                return False, ""
-        return True, ""
-    if kind == "choice":
-        if not isinstance(answer, str):
-            return False, f"expected an option key such as 'a', got {_describe(answer)}"
-        # "b", "B", "(b)", "b)", "b." and "'b'" (quotes typed inside the string) are all b
-        key = answer.strip().lower().strip("()[].:'\" \t")
-        if key not in {str(k).lower() for k in exercise.choices}:
-            return False, "expected the letter of one option, such as 'a'"
-        return key == str(expected).lower(), ""
-    raise ValueError(f"unknown answer kind {kind!r}")
+    return comparator(exercise, answer, expected, rtol, atol)
 
 
 def _describe(value) -> str:
@@ -683,17 +751,17 @@ def judge(exercise, params, answer, outputs_of=None) -> Judgement:
     expected = _expected(exercise, exercise.reference(params), params, outputs_of)
     try:
         tolerances = _tolerances(exercise, params, outputs_of)
-        ok, reason = compare(exercise, answer, expected, params, tolerances)
+        result = compare(exercise, answer, expected, params, tolerances)
     except ImportError as exc:
         return verdict("wrong", f"cannot judge this answer here: {exc}", mistake="unjudged")
-    except Exception as exc:  # noqa: BLE001 - e.g. UnsafeExpressionError from the parser
-        name = type(exc).__name__
-        text = str(exc)
-        if name == "FormulaSyntaxError":
+    except Exception as exc:  # noqa: BLE001 - an answer the comparator cannot read
+        kind = _parser_error_kind(exc)
+        if kind == "syntax":
             # a typo or ^ for ** is a slip of the student's, not an attempt at anything unsafe
-            return verdict("wrong", f"the formula could not be read: {text}", mistake="syntax")
-        return verdict("wrong", f"the answer could not be read ({name}: {text})",
-                       mistake="unreadable" if name != "UnsafeExpressionError" else "unsafe")
+            return verdict("wrong", f"the formula could not be read: {exc}", mistake="syntax")
+        return verdict("wrong", f"the answer could not be read ({type(exc).__name__}: {exc})",
+                       mistake=kind)
+    ok, reason = result
     if ok:
         return verdict("correct", "correct", float(exercise.points))
     tried = []
@@ -714,7 +782,22 @@ def judge(exercise, params, answer, outputs_of=None) -> Judgement:
     if near is not None:
         return verdict("wrong", f"not correct: {near[1]}", mistake=near[0])
     return verdict("wrong", "not correct" + (f": {reason}" if reason else ""),
-                   mistake=_reason_tag(reason))
+                   mistake=result.tag)
+
+
+def _parser_error_kind(exc: Exception) -> str:
+    """``"syntax"``, ``"unsafe"`` or ``"unreadable"`` for an exception of the comparison, by
+    the classes of :mod:`photolib.symcheck` (the formula parser). Its exceptions exist only
+    once it is imported, so a comparison that never parsed a formula does not import SymPy
+    here."""
+    import sys
+
+    symcheck = sys.modules.get("photolib.symcheck")
+    if symcheck is not None and isinstance(exc, symcheck.FormulaSyntaxError):
+        return "syntax"
+    if symcheck is not None and isinstance(exc, symcheck.UnsafeExpressionError):
+        return "unsafe"
+    return "unreadable"
 
 
 def _tolerances(exercise, params, outputs_of):
@@ -906,21 +989,9 @@ def _closer_to_zero(exercise, answer, wrong, params, tolerances=None) -> bool:
     if not np.any(values):
         return False
     zero = np.zeros_like(values) if values.ndim else 0.0
-    if not compare(exercise, zero, values, params, tolerances)[0]:
+    if not compare(exercise, zero, values, params, tolerances).ok:
         return False
     given = _as_number(answer) if exercise.kind == "number" else _numeric_matrix(answer,
                                                                                  values.ndim)
     given = np.asarray(given, float)
     return float(np.max(np.abs(given - values))) >= float(np.max(np.abs(given)))
-
-
-def _reason_tag(reason: str) -> str:
-    if not reason:
-        return "other"
-    for key, tag in (("only when the symbols are positive", "sign-domain"),
-                     ("rotation matrix", "not-orthonormal"), ("reflection", "reflection"),
-                     ("shape", "shape"), ("expected", "type"), ("raised", "raised"),
-                     ("decided", "undecided")):
-        if key in reason:
-            return tag
-    return "other"

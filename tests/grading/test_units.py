@@ -438,3 +438,40 @@ def test_propagated_atol_of_arrays_and_list_parameters():
                           {"u": [1.0, 2.0]}, {"u": 0.5})
     np.testing.assert_allclose(tol, [1.0, 1.5])
     assert isinstance(propagated_atol(lambda p: p["a"] ** 2, {"a": 3.0}, {"a": 0.01}), float)
+
+
+def test_each_answer_kind_has_one_comparator_that_returns_its_tag():
+    """The gradebook tag comes from the comparator with its verdict and message (it was
+    searched for in the student-facing message)."""
+    from photolib.grading.judge import COMPARATORS, Comparison, compare
+    assert set(COMPARATORS) == {"number", "array", "rotation", "expression", "function",
+                                "choice"}
+    rot = exercise("demo.rotation-x")
+    p = parameters_for(rot, "s1000001")
+    mirror = np.diag([1.0, 1.0, -1.0])
+    result = compare(rot, mirror, rot.reference(p), p)
+    assert isinstance(result, Comparison)
+    assert (result.ok, result.tag) == (False, "reflection")
+    assert result.message.startswith("det R = −1")
+    ok, reason = result                                     # the old (ok, reason) form
+    assert (ok, reason) == (False, result.message)
+    shape = compare(rot, np.eye(2), rot.reference(p), p)
+    assert (shape.tag, shape.message) == ("shape", "expected shape (3, 3), got (2, 2)")
+    assert compare(rot, rot.reference(p), rot.reference(p), p) == Comparison(True, "", "")
+    bad = Exercise(id="t.kind", points=1, title="", statement="", kind="number", answer="a",
+                   parameters=lambda rng: {}, reference=lambda p: 1.0)
+    object.__setattr__(bad, "kind", "vector")
+    with pytest.raises(ValueError, match="unknown answer kind 'vector'"):
+        compare(bad, 1.0, 1.0, Params())
+
+
+def test_a_message_that_mentions_shape_does_not_become_the_shape_tag():
+    """A function's degenerate-input message may contain any word ("shape", "expected"): the
+    tag is the comparator's, "degenerate", not the first keyword found in the text."""
+    from photolib.grading.encode import Raised
+    from photolib.grading.judge import FunctionOutputs, compare
+    ex = exercise("demo.scale-function")
+    want = [Raised("ValueError", True, "expected shape (n, 2)")]
+    result = compare(ex, FunctionOutputs((1.0,)), want, parameters_for(ex, "s1000001"),
+                     (1e-9, [1e-9]))
+    assert (result.ok, result.tag) == (False, "degenerate")
