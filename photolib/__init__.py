@@ -120,7 +120,14 @@ _EXPORTS = {
     "ReliabilityResult": "bundle", "non_centrality": "bundle", "reliability": "bundle",
 }
 
-__all__ = sorted(_EXPORTS)
+#: deprecated names: still importable (they warn when called), not in ``__all__``;
+#: removed in the next release
+_DEPRECATED = {
+    "bessel_jn": "scipy.special.jv",
+    "student_t_cdf": "scipy.stats.t.cdf",
+}
+
+__all__ = sorted(set(_EXPORTS) - set(_DEPRECATED))
 
 
 def __getattr__(name: str):
