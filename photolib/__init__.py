@@ -15,6 +15,7 @@ import importlib
 
 import numpy as _np  # noqa: F401 - the one dependency, loaded up front
 
+#: the one place the version is written: pyproject.toml reads it ([tool.setuptools.dynamic])
 __version__ = "0.1.0"
 
 #: public name -> module that defines it
