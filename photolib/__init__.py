@@ -15,6 +15,7 @@ import importlib
 
 import numpy as _np  # noqa: F401 - the one dependency, loaded up front
 
+#: the one place the version is written: pyproject.toml reads it ([tool.setuptools.dynamic])
 __version__ = "0.1.0"
 
 #: public name -> module that defines it
@@ -120,7 +121,14 @@ _EXPORTS = {
     "ReliabilityResult": "bundle", "non_centrality": "bundle", "reliability": "bundle",
 }
 
-__all__ = sorted(_EXPORTS)
+#: deprecated names: still importable (they warn when called), not in ``__all__``;
+#: removed in the next release
+_DEPRECATED = {
+    "bessel_jn": "scipy.special.jv",
+    "student_t_cdf": "scipy.stats.t.cdf",
+}
+
+__all__ = sorted(set(_EXPORTS) - set(_DEPRECATED))
 
 
 def __getattr__(name: str):

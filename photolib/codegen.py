@@ -6,7 +6,8 @@ NumPy function with common-subexpression elimination into ``photolib/_generated/
 
 The output is deterministic: CSE with canonical ordering and numbered temporaries, SymPy's
 NumPy printer, arguments in the order the derivation states, and a header carrying the
-SHA-256 of the derive source, so the sync test (``tests/test_codegen.py``) can regenerate
+SHA-256 of the derive source and of every derive module it imports (transitively, found in
+the source by :func:`derive_dependencies`), so the sync test (``tests/test_codegen.py``) can regenerate
 into a temporary folder and diff. ``python -m photolib codegen`` (or ``make regen``, or
 ``pytest --update-generated``) rewrites the committed files.
 """
@@ -48,11 +49,65 @@ class _Printer(NumPyPrinter):
         return super()._print_Pow(expr, rational=rational)
 
 
-def source_hash(module_name: str) -> str:
-    """SHA-256 of the derive module's source and of the shared spec it imports."""
+def derive_dependencies(module_name: str, derive_dir: Path | str = DERIVE_DIR) -> tuple[str, ...]:
+    """The ``photolib.derive`` modules a derivation imports, directly or through each other.
+
+    Read from the source (``ast``), not by importing: every ``import photolib.derive.X`` and
+    ``from photolib.derive[.X] import …`` anywhere in the module (also inside functions),
+    followed transitively; ``from photolib.derive import X`` counts X when it is a module of
+    ``derive_dir``, the package's ``__init__`` only for a name that is not. Returns the module
+    names (``"rotation"``, ``"_spec"``, ``"__init__"``), ``module_name`` first, then sorted.
+    """
+    import ast
+
+    derive_dir = Path(derive_dir)
+    prefix = "photolib.derive"
+
+    def imported(name: str) -> set[str]:
+        tree = ast.parse((derive_dir / f"{name}.py").read_text(encoding="utf-8"))
+        found = set()
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Import):
+                targets = [(a.name, None) for a in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                if node.level:      # relative: from . import x, from ._spec import y
+                    base = ".".join([prefix, node.module] if node.module else [prefix])
+                else:
+                    base = node.module or ""
+                targets = [(base, a.name) for a in node.names]
+            else:
+                continue
+            for module, attr in targets:
+                if module == prefix and attr is not None:
+                    sub = attr if (derive_dir / f"{attr}.py").exists() else "__init__"
+                    found.add(sub)
+                elif module.startswith(prefix + "."):
+                    found.add(module[len(prefix) + 1:].split(".")[0])
+                elif module == prefix:
+                    found.add("__init__")
+        return found
+
+    seen, todo = {module_name}, [module_name]
+    while todo:
+        for dep in imported(todo.pop()) - seen:
+            seen.add(dep)
+            todo.append(dep)
+    return (module_name, *sorted(seen - {module_name}))
+
+
+def source_hash(module_name: str, derive_dir: Path | str = DERIVE_DIR) -> str:
+    """SHA-256 over the derive module and every ``photolib.derive`` module it imports.
+
+    The modules of :func:`derive_dependencies` in its order, each as its file name, a NUL
+    byte, its source with ``\\n`` line ends and a NUL byte: a change to any of them (the
+    rotation matrices that the collinearity Jacobians differentiate, the shared spec) changes
+    the hash, so the sync test says the generated file is out of date.
+    """
+    derive_dir = Path(derive_dir)
     h = hashlib.sha256()
-    for path in (DERIVE_DIR / f"{module_name}.py", DERIVE_DIR / "_spec.py"):
-        h.update(path.read_bytes().replace(b"\r\n", b"\n"))
+    for name in derive_dependencies(module_name, derive_dir):
+        h.update(f"{name}.py".encode() + b"\0")
+        h.update((derive_dir / f"{name}.py").read_bytes().replace(b"\r\n", b"\n") + b"\0")
     return h.hexdigest()
 
 
@@ -89,6 +144,7 @@ def render_module(module_name: str) -> str:
     header = (
         f"# generated from photolib/derive/{module_name}.py, do not edit\n"
         f"# source sha256: {source_hash(module_name)}\n"
+        f"# hashed: {', '.join(f'derive/{d}.py' for d in derive_dependencies(module_name))}\n"
         f"# regenerate with: python -m photolib codegen   (SymPy {sp.__version__.split('.')[0]}."
         f"{sp.__version__.split('.')[1]})\n"
         f'"""NumPy code generated from :mod:`photolib.derive.{module_name}`."""\n\n'

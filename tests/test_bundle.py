@@ -7,20 +7,24 @@
   ``scipy.sparse`` matrix, solved with ``scipy.sparse.linalg``, and its dense inverse for the
   covariance, Q_vv and the redundancy numbers;
 * simulated blocks with known truth (seeded), a gross error injected and found;
-* SciPy's distributions for the critical values, mpmath (``photolib.derive.adjustment``)
-  for the t quantile.
+* mpmath (``photolib.derive.adjustment``: erfc and the incomplete beta function) for the
+  critical values the library takes from SciPy's distributions, Student's density integrated
+  by quadrature for the deprecated ``student_t_cdf``.
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 
+import mpmath
 import numpy as np
 import pytest
 import scipy.sparse as sps
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import stats
+from scipy.integrate import quad
 from scipy.optimize import least_squares
 from scipy.optimize._numdiff import approx_derivative, group_columns
 from scipy.sparse.linalg import spsolve
@@ -281,12 +285,31 @@ def test_gross_error_is_found_by_data_snooping():
     assert w.critical == pytest.approx(stats.norm.ppf(1 - 0.0005), abs=1e-12)
 
 
+def _quantile_mpmath(alpha, nu):
+    """k with P(|T_ν| > k) = α from mpmath (40 digits): log t_tail(e^u) = log α solved for u,
+    t_tail being erfc or the regularised incomplete beta function
+    (:func:`photolib.derive.adjustment.t_tail`). In logs, so that α = 1e-300 keeps its digits
+    (``adj.t_quantile`` stops at an absolute residual of 1e-30)."""
+    with mpmath.workdps(40):
+        target = mpmath.log(mpmath.mpf(alpha))
+        g = lambda u: mpmath.log(adj.t_tail(mpmath.exp(u), nu)) - target
+        lo, hi = mpmath.mpf(-5), mpmath.mpf(1)
+        while g(hi) > 0:
+            lo, hi = hi, hi + 8
+        u = mpmath.findroot(g, (lo, hi), solver="illinois", verify=False)
+        assert abs(g(u)) < 1e-30, (alpha, nu, g(u))
+        return mpmath.exp(u)
+
+
 @pytest.mark.parametrize("alpha", [0.1, 0.05, 0.01, 0.001, 1e-5])
 @pytest.mark.parametrize("dof", [1, 2, 5, 17, 120])
-def test_critical_values_agree_with_scipy(alpha, dof):
-    assert bd.critical_value(alpha) == pytest.approx(stats.norm.ppf(1 - alpha / 2), abs=1e-11)
-    assert bd.critical_value(alpha, "t", dof) == pytest.approx(stats.t.ppf(1 - alpha / 2, dof),
-                                                               rel=1e-10)
+def test_critical_values_agree_with_mpmath(alpha, dof):
+    """SciPy's quantiles (the library) against mpmath's root of erfc and of the incomplete
+    beta function."""
+    assert bd.critical_value(alpha) == pytest.approx(float(_quantile_mpmath(alpha, math.inf)),
+                                                     rel=1e-13)
+    assert bd.critical_value(alpha, "t", dof) == pytest.approx(
+        float(_quantile_mpmath(alpha, dof)), rel=1e-12)
     if dof > 1:
         # τ²/r ~ Beta(1/2, (r − 1)/2) (Pope), a different route from τ(t)
         tau2 = dof * stats.beta.ppf(1 - alpha, 0.5, (dof - 1) / 2)
@@ -298,21 +321,56 @@ def test_t_critical_value_agrees_with_mpmath_derivation():
                                                             rel=1e-12)
 
 
+def _t_density(nu):
+    """Student's density f(x) = Γ((ν+1)/2) / (√(νπ)·Γ(ν/2)) · (1 + x²/ν)^(−(ν+1)/2), written out
+    (ν = inf: the normal density)."""
+    if math.isinf(nu):
+        return lambda x: math.exp(-0.5 * x * x) / math.sqrt(2 * math.pi)
+    logc = math.lgamma((nu + 1) / 2) - math.lgamma(nu / 2) - 0.5 * math.log(nu * math.pi)
+    return lambda x: math.exp(logc - (nu + 1) / 2 * math.log1p(x * x / nu))
+
+
+def _t_cdf_by_quadrature(t, nu):
+    """P(T_ν ≤ t) = ½ + ∫₀ᵗ f(x) dx, integrated by QUADPACK."""
+    part = quad(_t_density(nu), 0.0, abs(t), epsabs=1e-14, epsrel=1e-13, limit=200)[0]
+    return 0.5 + math.copysign(part, t)
+
+
+def _t_tail_by_quadrature(t, nu):
+    """P(|T_ν| > |t|) = 2∫_|t|^∞ f(x) dx, relative accuracy (no 1 − cdf)."""
+    return 2 * quad(_t_density(nu), abs(t), math.inf, epsabs=0.0, epsrel=1e-12, limit=200)[0]
+
+
 @settings(max_examples=40, deadline=None)
-@given(st.floats(-30.0, 30.0), st.integers(1, 300))
-def test_t_cdf_round_trip(t, dof):
-    # SciPy's t.cdf for ν = 1 returns 0.5 for |t| ≲ 1e-9; the Cauchy cdf is closed-form
-    ref = 0.5 + math.atan(t) / math.pi if dof == 1 else stats.t.cdf(t, dof)
-    assert bd.student_t_cdf(t, dof) == pytest.approx(ref, abs=1e-12)
-    p = 2 * (1 - bd.student_t_cdf(abs(t), dof))
+@given(st.floats(-30.0, 30.0), st.one_of(st.integers(1, 300), st.just(math.inf)))
+def test_deprecated_t_cdf_and_critical_value_against_the_integrated_density(t, dof):
+    with pytest.warns(DeprecationWarning, match=r"student_t_cdf is deprecated.*scipy\.stats"):
+        got = bd.student_t_cdf(t, dof)
+    assert got == pytest.approx(_t_cdf_by_quadrature(t, dof), abs=1e-12)
+    p = _t_tail_by_quadrature(t, dof)
     if 1e-10 < p < 1 - 1e-10:
-        assert bd.critical_value(p, "t", dof) == pytest.approx(abs(t), rel=1e-7, abs=1e-9)
+        assert bd.critical_value(p, "t", dof) == pytest.approx(abs(t), rel=1e-9, abs=1e-9)
 
 
-def test_tail_probability_rises_as_degrees_of_freedom_fall():
-    """Luhmann p. 90, corrected text (luhmann:p90-t-distribution): 'steigt'."""
-    tails = [2 * (1 - bd.student_t_cdf(2.0, nu)) for nu in (1, 3, 10, 30, math.inf)]
-    assert all(a > b for a, b in zip(tails, tails[1:]))
+@pytest.mark.parametrize("module", ["photolib", "photolib.bundle"])
+def test_student_t_cdf_is_deprecated_and_delegates_to_scipy(module):
+    import importlib
+
+    mod = importlib.import_module(module)
+    assert "student_t_cdf" not in mod.__all__ and "critical_value" in mod.__all__
+    for t, nu in ((2.0, 5), (-1.5, 1), (0.3, math.inf), (4.0, 2.5)):
+        with pytest.warns(DeprecationWarning, match="use scipy.stats.t.cdf"):
+            got = mod.student_t_cdf(t, nu)
+        assert isinstance(got, float)
+        assert got == pytest.approx(_t_cdf_by_quadrature(t, nu), abs=1e-12)
+
+
+def test_critical_value_rises_as_degrees_of_freedom_fall():
+    """Luhmann p. 90, corrected text (luhmann:p90-t-distribution): the tail P(|T| > k) 'steigt'
+    as ν falls, so at a fixed α the critical value rises."""
+    ks = [bd.critical_value(0.05, "t", nu) for nu in (1, 3, 10, 30, math.inf)]
+    assert all(a > b for a, b in zip(ks, ks[1:]))
+    assert ks[-1] == bd.critical_value(0.05)
 
 
 def test_inner_constraints_span_the_null_space_of_the_free_network():
@@ -427,7 +485,7 @@ def test_critical_value_bad_input():
         bd.critical_value(0.01, "tau", 1)
     with pytest.raises(ValueError, match="test must be"):
         bd.critical_value(0.01, "chi2")
-    with pytest.raises(ValueError, match="dof must be"):
+    with pytest.warns(DeprecationWarning), pytest.raises(ValueError, match="dof must be"):
         bd.student_t_cdf(1.0, 0)
 
 
@@ -492,21 +550,31 @@ def test_control_as_indices_mask_or_array_give_the_same_result():
 
 
 @pytest.mark.parametrize("alpha, dof", [(a, d) for a in (1e-12, 1e-16, 1e-20, 1e-50, 1e-300)
-                                         for d in (math.inf, 1, 2, 5, 30)
-                                         if (a, d) != (1e-300, 5)])  # SciPy: −inf there
-def test_critical_values_for_tiny_alpha_agree_with_scipy(alpha, dof):
-    """The root is taken on the upper tail P(T > k) = α/2: with 1 − cdf every α ≤ 1e-16
-    gave the same wrong k (8.29 for the normal, 2796 instead of 2855 for t(5) at 1e-16)."""
-    test, ref = (("normal", stats.norm.isf(alpha / 2)) if math.isinf(dof)
-                 else ("t", stats.t.isf(alpha / 2, dof)))
+                                         for d in (math.inf, 1, 2, 5, 30)])
+def test_critical_values_for_tiny_alpha_agree_with_mpmath(alpha, dof):
+    """The quantile is taken of the upper tail P(T > k) = α/2: with 1 − cdf every α ≤ 1e-16
+    gave the same wrong k (8.29 for the normal, 2796 instead of 2855 for t(5) at 1e-16). At
+    α = 1e-300 SciPy's t(5).isf gives −inf; the library solves its logsf there instead."""
+    test = "normal" if math.isinf(dof) else "t"
+    ref = float(_quantile_mpmath(alpha, dof))
     assert bd.critical_value(alpha, test, dof) == pytest.approx(ref, rel=1e-13)
+
+
+def test_critical_value_out_of_floating_point_reach_is_an_error():
+    # ν = 0.5: P(T > k) ~ C·k^(−1/2), so α = 1e-300 needs k ≈ 1e600
+    assert _quantile_mpmath(1e-300, 0.5) > 1e308      # mpmath: 4.1e599
+    with pytest.raises(ValueError, match=r"critical value for a tail of 5e-301 with dof = 0.5 "
+                                         r"is out of floating-point reach"):
+        bd.critical_value(1e-300, "t", 0.5)
 
 
 def test_degrees_of_freedom_must_be_numbers():
     for f in (lambda: bd.student_t_cdf(1.0, "a"), lambda: bd.critical_value(0.05, "t", "a")):
-        with pytest.raises(ValueError, match=r"dof must be a real number > 0 \(inf: normal\), "
-                                             r"got 'a'"):
-            f()
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", DeprecationWarning)   # student_t_cdf's
+            with pytest.raises(ValueError, match=r"dof must be a real number > 0 "
+                                                 r"\(inf: normal\), got 'a'"):
+                f()
     with pytest.raises(ValueError, match="dof must be > 0, got nan"):
         bd.critical_value(0.05, "t", np.nan)
 

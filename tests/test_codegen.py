@@ -47,6 +47,67 @@ def test_header_names_source_and_hash(module):
     assert f"# source sha256: {codegen.source_hash(module)}" in text
 
 
+def _derive_copy(tmp_path):
+    """A copy of photolib/derive to edit (the real files stay untouched)."""
+    import shutil
+
+    dest = tmp_path / "derive"
+    shutil.copytree(codegen.DERIVE_DIR, dest, ignore=shutil.ignore_patterns("__pycache__"))
+    return dest
+
+
+def test_hash_covers_the_derive_modules_a_derivation_imports(tmp_path):
+    """The collinearity Jacobians differentiate rotation.py's R: editing rotation.py (or the
+    shared spec) must make _generated/collinearity.py stale, editing optics.py must not."""
+    assert codegen.derive_dependencies("collinearity") == ("collinearity", "_spec", "rotation")
+    assert codegen.derive_dependencies("rotation") == ("rotation", "_spec")
+    derive = _derive_copy(tmp_path)
+    before = {m: codegen.source_hash(m, derive) for m in CODEGEN_MODULES}
+    assert before == {m: codegen.source_hash(m) for m in CODEGEN_MODULES}
+    with open(derive / "optics.py", "a") as f:       # imported by none of them
+        f.write("\n# an unrelated edit\n")
+    assert {m: codegen.source_hash(m, derive) for m in CODEGEN_MODULES} == before
+    with open(derive / "rotation.py", "a") as f:
+        f.write("\n# an edit of the rotations\n")
+    after = {m: codegen.source_hash(m, derive) for m in CODEGEN_MODULES}
+    assert after["rotation"] != before["rotation"]
+    assert after["collinearity"] != before["collinearity"]
+    assert after["distortion"] == before["distortion"]
+    with open(derive / "_spec.py", "a") as f:
+        f.write("\n# an edit of the spec\n")
+    assert codegen.source_hash("distortion", derive) != before["distortion"]
+
+
+def test_dependencies_are_followed_transitively_and_inside_functions(tmp_path):
+    """a imports b at the top, b imports c inside a function, c imports nothing of derive:
+    a change to c changes a's hash; imports of other packages are not followed."""
+    d = tmp_path / "derive"
+    d.mkdir()
+    (d / "__init__.py").write_text("NAMES = ()\n")
+    (d / "a.py").write_text("import sympy\nfrom photolib.derive import b\n")
+    (d / "b.py").write_text("def f():\n    from photolib.derive.c import g\n    return g\n")
+    (d / "c.py").write_text("import photolib.rotations\ndef g():\n    return 1\n")
+    (d / "e.py").write_text("from photolib.derive import NAMES\nfrom . import c\n")
+    assert codegen.derive_dependencies("a", d) == ("a", "b", "c")
+    assert codegen.derive_dependencies("e", d) == ("e", "__init__", "c")
+    h = codegen.source_hash("a", d)
+    (d / "c.py").write_text("import photolib.rotations\ndef g():\n    return 2\n")
+    assert codegen.source_hash("a", d) != h
+    # once b no longer imports c, c drops out of a's hash
+    (d / "b.py").write_text("def f():\n    return 1\n")
+    assert codegen.derive_dependencies("a", d) == ("a", "b")
+    h = codegen.source_hash("a", d)
+    (d / "c.py").write_text("def g():\n    return 3\n")
+    assert codegen.source_hash("a", d) == h
+
+
+@pytest.mark.parametrize("module", CODEGEN_MODULES)
+def test_header_lists_the_hashed_modules(module):
+    text = (codegen.GENERATED_DIR / f"{module}.py").read_text()
+    hashed = ", ".join(f"derive/{d}.py" for d in codegen.derive_dependencies(module))
+    assert f"\n# hashed: {hashed}\n" in text
+
+
 def _cases():
     for module in CODEGEN_MODULES:
         mod = importlib.import_module(f"photolib.derive.{module}")

@@ -133,6 +133,72 @@ def test_make_installs_from_the_lock():
     assert re.search(r"^lock:", make, re.M) and "pip freeze --exclude photolib" in make
 
 
+# -- the package: version, data files, the grader's requirements ---------------------------------
+
+def _project() -> dict:
+    return tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
+
+
+def test_version_is_written_once_and_setuptools_reads_it():
+    """pyproject.toml takes the version from photolib.__version__; no second copy to drift."""
+    from setuptools.config.expand import read_attr
+
+    import photolib
+
+    project = _project()
+    assert "version" not in project["project"] and "version" in project["project"]["dynamic"]
+    attr = project["tool"]["setuptools"]["dynamic"]["version"]["attr"]
+    # what setuptools writes into the wheel's metadata: the attribute read from the source
+    assert read_attr(attr, root_dir=ROOT) == photolib.__version__
+    assert re.fullmatch(r"\d+\.\d+\.\d+", photolib.__version__), photolib.__version__
+    init = (ROOT / "photolib" / "__init__.py").read_text(encoding="utf-8")
+    assert len(re.findall(r"^__version__ = ", init, re.M)) == 1
+
+
+def test_package_data_globs_match_real_files():
+    """Each package-data entry ships something (a glob that matches nothing hid a missing
+    py.typed and grading JSON files that never existed); py.typed marks the package typed
+    (PEP 561) and is empty."""
+    globs = _project()["tool"]["setuptools"]["package-data"]["photolib"]
+    for pattern in globs:
+        assert list((ROOT / "photolib").glob(pattern)), f"package-data {pattern!r} matches nothing"
+    assert "py.typed" in globs and (ROOT / "photolib" / "py.typed").read_bytes() == b""
+
+
+def _top_level_imports(path: Path) -> set[str]:
+    import ast
+
+    names = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            names |= {a.name.split(".")[0] for a in node.names}
+        elif isinstance(node, ast.ImportFrom) and node.module and not node.level:
+            names.add(node.module.split(".")[0])
+    return names
+
+
+#: import name -> distribution name where they differ
+_DISTRIBUTION = {"zmq": "pyzmq"}
+
+
+def test_the_graders_imports_are_declared_in_its_extra():
+    """Every third-party module that photolib.grading imports is in the ``grading`` extra
+    (or a core dependency), and the course installs that extra."""
+    project = _project()["project"]
+    name = lambda req: re.sub(r"[-_.]+", "-", re.match(r"[A-Za-z0-9._-]+", req).group()).lower()
+    extra = {name(r) for r in project["optional-dependencies"]["grading"]}
+    core = {name(r) for r in project["dependencies"]}
+    imported = set()
+    for path in (ROOT / "photolib" / "grading").rglob("*.py"):
+        imported |= _top_level_imports(path)
+    third_party = {m for m in imported - set(sys.stdlib_module_names) - {"photolib", "__future__"}}
+    assert {"zmq", "jupyter_client", "nbformat"} <= third_party, third_party
+    missing = {m for m in third_party
+               if name(_DISTRIBUTION.get(m, m)) not in extra | core}
+    assert not missing, f"photolib.grading imports {sorted(missing)}, not in the grading extra"
+    assert "photolib[grading]" in project["optional-dependencies"]["course"]
+
+
 #: pytest options of the Makefile that take a value (the value is not a path to test)
 _VALUE_OPTIONS = {"-n", "-m", "-k", "-p", "--dist", "--nbval-sanitize-with", "--durations"}
 

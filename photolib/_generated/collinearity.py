@@ -1,5 +1,6 @@
 # generated from photolib/derive/collinearity.py, do not edit
-# source sha256: 80b3a32012c70ad6250216cfd21a93515ee743f46922d414c02319329fd5a0c7
+# source sha256: ca4d2dcd797eb54311fd725e9890a92c42bbd3956430165938911b77273bd070
+# hashed: derive/collinearity.py, derive/_spec.py, derive/rotation.py
 # regenerate with: python -m photolib codegen   (SymPy 1.14)
 """NumPy code generated from :mod:`photolib.derive.collinearity`."""
 

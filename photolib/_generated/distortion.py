@@ -1,5 +1,6 @@
 # generated from photolib/derive/distortion.py, do not edit
-# source sha256: 239132190bbfbb2ad8387d01a335537340c77fc45b52ed67b7da34e43dc6bece
+# source sha256: 59470d5e774314e23a3337ee9a6db610699114c3c23695a69c5f51565a0ab402
+# hashed: derive/distortion.py, derive/_spec.py
 # regenerate with: python -m photolib codegen   (SymPy 1.14)
 """NumPy code generated from :mod:`photolib.derive.distortion`."""
 

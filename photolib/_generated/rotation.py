@@ -1,5 +1,6 @@
 # generated from photolib/derive/rotation.py, do not edit
-# source sha256: 57d11834ca086d3b580d48deaf31f32c45039629000203bf22392780ce214d35
+# source sha256: 897d51f97d7204ba382ee674513d85e1a5167ea53cfb122106059ad253ba4ba7
+# hashed: derive/rotation.py, derive/_spec.py
 # regenerate with: python -m photolib codegen   (SymPy 1.14)
 """NumPy code generated from :mod:`photolib.derive.rotation`."""
 

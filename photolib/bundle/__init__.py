@@ -40,9 +40,10 @@ reduced camera system, covariance blocks),
 :mod:`~photolib.bundle._result` (its result), :mod:`~photolib.bundle._inputs` (the checks of
 its arguments), :mod:`~photolib.bundle._datum` (inner constraints, datum and geometry
 checks), :mod:`~photolib.bundle._pattern` (the pattern of the normal matrix),
-:mod:`~photolib.bundle._statistics` (Student's t, critical values) and
+:mod:`~photolib.bundle._statistics` (critical values from ``scipy.stats``) and
 :mod:`~photolib.bundle._reliability` (data snooping, reliability); every name is importable
-from :mod:`photolib.bundle`.
+from :mod:`photolib.bundle`. ``student_t_cdf`` is deprecated (use ``scipy.stats.t.cdf``): it
+still imports from here, warns when called and is not in ``__all__``.
 """
 
 from photolib.bundle._adjustment import bundle_adjustment
@@ -60,9 +61,12 @@ from photolib.bundle._reliability import (
     reliability,
 )
 from photolib.bundle._result import INTERIOR_PARAMETERS, BundleResult, IterationRecord
-from photolib.bundle._statistics import critical_value, student_t_cdf
+from photolib.bundle._statistics import critical_value
+from photolib.bundle._statistics import (  # noqa: F401 - deprecated, kept for one release
+    student_t_cdf,
+)
 
 __all__ = ["BundleResult", "DatumError", "IterationRecord", "ReliabilityResult",
            "SnoopingResult", "INTERIOR_PARAMETERS", "bundle_adjustment", "critical_value",
            "data_snooping", "inner_constraints", "non_centrality", "normal_matrix_pattern",
-           "reliability", "student_t_cdf"]
+           "reliability"]

@@ -1,10 +1,9 @@
-"""Test distributions of data snooping: Student's t, its upper tail and critical values.
+"""Test distributions of data snooping: critical values of the normal, Student's t and Pope's τ.
 
-:func:`student_t_cdf` (the normal distribution for ``dof = inf``) from the regularised
-incomplete beta function by Lentz's continued fraction, and :func:`critical_value`, the
-two-sided critical value of the normal (Baarda's w), Student's t and Pope's τ test, found by
-bisection on the upper tail itself so that tiny levels keep their digits. NumPy/``math``
-only (no SciPy).
+:func:`critical_value`, the two-sided critical value of the normal (Baarda's w), Student's t
+and Pope's τ test, from SciPy's distributions (``scipy.stats``, imported on first use): the
+inverse upper tail ``isf`` itself, not ``ppf(1 − α/2)``, so that tiny levels keep their
+digits. :func:`student_t_cdf` is deprecated (use ``scipy.stats.t.cdf``).
 """
 
 from __future__ import annotations
@@ -15,36 +14,6 @@ import math
 import numpy as np
 
 from photolib._validate import as_scalar
-
-
-def _betainc(a: float, b: float, x: float, y: float) -> float:
-    """Regularised incomplete beta I_x(a, b), y = 1 − x given separately (no cancellation),
-    by Lentz's continued fraction."""
-    if x <= 0.0:
-        return 0.0
-    if y <= 0.0:
-        return 1.0
-    if x > (a + 1.0) / (a + b + 2.0):
-        return 1.0 - _betainc(b, a, y, x)
-    front = math.exp(math.lgamma(a + b) - math.lgamma(a) - math.lgamma(b)
-                     + a * math.log(x) + b * math.log(y)) / a
-    tiny, f, C, D = 1e-300, 1.0, 1.0, 0.0
-    for i in range(400):
-        m = i // 2
-        if i == 0:
-            num = 1.0
-        elif i % 2 == 0:
-            num = m * (b - m) * x / ((a + 2 * m - 1) * (a + 2 * m))
-        else:
-            num = -(a + m) * (a + b + m) * x / ((a + 2 * m) * (a + 2 * m + 1))
-        D = 1.0 + num * D
-        D = 1.0 / (D if abs(D) > tiny else tiny)
-        C = 1.0 + num / C
-        C = C if abs(C) > tiny else tiny
-        f *= C * D
-        if abs(1.0 - C * D) < 1e-15:
-            break
-    return front * (f - 1.0)
 
 
 def _as_dof(dof) -> float:
@@ -61,33 +30,26 @@ def _as_dof(dof) -> float:
     return v
 
 
-def _upper_tail(t: float, nu: float) -> float:
-    """``P(T_ν > t)`` for t ≥ 0, computed as the tail itself (not 1 − cdf, which loses every
-    digit once the tail is below the rounding of 1, about 1e-16)."""
-    if math.isinf(nu):
-        return 0.5 * math.erfc(t / math.sqrt(2.0))
-    a, t2 = nu / 2.0, t * t
-    if math.isfinite(t2) and nu / (nu + t2) > 1e-300:
-        return 0.5 * _betainc(a, 0.5, nu / (nu + t2), t2 / (nu + t2))
-    # t beyond ~1e150: x = ν/t² underflows; I_x(a, ½) = x^a·Γ(a + ½)/(Γ(a)Γ(½)·a)·(1 + O(x))
-    log_x = math.log(nu) - 2.0 * math.log(t)
-    return 0.5 * math.exp(math.lgamma(a + 0.5) - math.lgamma(a) - math.lgamma(0.5)
-                          + a * log_x) / a
+def _distribution(nu: float):
+    """SciPy's standard normal for ``nu = inf``, else Student's t with ν degrees of freedom."""
+    from scipy import stats
+
+    return stats.norm() if math.isinf(nu) else stats.t(nu)
 
 
 def student_t_cdf(t: float, dof: float) -> float:
-    r"""CDF of Student's t with ``dof`` degrees of freedom (``dof = inf``: normal).
+    r"""CDF of Student's t with ``dof`` degrees of freedom (``dof = inf``: normal); deprecated.
+
+    .. deprecated:: 0.1.0
+        Use ``scipy.stats.t.cdf(t, dof)`` (``scipy.stats.norm.cdf(t)`` for the normal); this
+        name delegates to it and is removed in the next release.
 
     .. math:: P(T_ν \le t) = 1 - \tfrac12 I_{ν/(ν+t^2)}(ν/2, 1/2)\quad (t \ge 0)
-
-    with the regularised incomplete beta function :math:`I_x(a, b)` (Lentz's continued
-    fraction, NumPy/``math`` only); for t < 0 by symmetry,
-    :math:`P(T_ν \le -t) = 1 - P(T_ν \le t)`.
 
     Parameters
     ----------
     t : float
-        Value of the test statistic (dimensionless, e.g. a standardised residual).
+        Value of the test statistic (dimensionless, e.g. a standardised residual), finite.
     dof : float
         Degrees of freedom / Freiheitsgrade ν, > 0 (not necessarily an integer); ``inf`` gives
         the standard normal distribution.
@@ -101,18 +63,14 @@ def student_t_cdf(t: float, dof: float) -> float:
     ------
     ValueError
         If ``dof`` is not a real number > 0 or ``t`` is not a finite number.
-
-    Examples
-    --------
-    >>> round(student_t_cdf(2.0, 5), 6), round(student_t_cdf(0.0, 3), 12)
-    (0.94903, 0.5)
     """
+    import warnings
+
+    warnings.warn("photolib.student_t_cdf is deprecated and will be removed in the next "
+                  "release; use scipy.stats.t.cdf(t, dof) (scipy.stats.norm.cdf(t) for "
+                  "dof = inf)", DeprecationWarning, stacklevel=2)
     t = as_scalar(t, "t")
-    dof = _as_dof(dof)
-    if math.isinf(dof):
-        return 0.5 * math.erfc(-t / math.sqrt(2.0))
-    tail = 0.5 * _betainc(dof / 2.0, 0.5, dof / (dof + t * t), t * t / (dof + t * t))
-    return 1.0 - tail if t >= 0 else tail
+    return float(_distribution(_as_dof(dof)).cdf(t))
 
 
 def critical_value(alpha: float, test: str = "normal", dof: float = math.inf) -> float:
@@ -140,21 +98,24 @@ def critical_value(alpha: float, test: str = "normal", dof: float = math.inf) ->
     -----
     .. math:: P(|T| > k) = α \iff P(T > k) = α/2
 
-    solved by bisection on the upper tail.
+    taken from SciPy's inverse upper tail, ``scipy.stats.norm.isf(α/2)`` or
+    ``scipy.stats.t.isf(α/2, ν)``, checked against the log tail ``logsf`` (where ``isf``
+    fails far in the tail, ``logsf(k) = log(α/2)`` is solved for log k instead).
 
     Raises
     ------
     ValueError
-        For ``alpha`` outside (0, 1), an unknown ``test``, ``dof ≤ 0``, or ``'tau'`` without
-        a finite redundancy r > 1.
+        For ``alpha`` outside (0, 1), an unknown ``test``, ``dof ≤ 0``, ``'tau'`` without
+        a finite redundancy r > 1, or a critical value out of floating-point reach (ν < 1 at
+        a tiny ``alpha``: ν = 0.5 at α = 1e-300 needs k ≈ 4e599).
 
     Examples
     --------
     >>> round(critical_value(0.001), 4), round(critical_value(0.05, "t", 5), 4)
     (3.2905, 2.5706)
 
-    The root is found on the upper tail ``P(T > k) = alpha/2`` itself, so tiny levels keep
-    their digits:
+    The quantile is taken of the upper tail ``P(T > k) = alpha/2`` itself (not of
+    ``1 − alpha/2``, which rounds to 1 below 1e-16), so tiny levels keep their digits:
 
     >>> round(critical_value(1e-20), 4)
     9.336
@@ -175,12 +136,32 @@ def _critical_value(alpha: float, test: str, dof: float) -> float:
     if test not in ("normal", "t"):
         raise ValueError(f"test must be 'normal', 't' or 'tau', got {test!r}")
     nu = math.inf if test == "normal" else float(dof)
-    lo, hi, target = 0.0, 1.0, alpha / 2.0
-    while _upper_tail(hi, nu) > target:
-        hi *= 2.0
-    for _ in range(200):  # bisection to the last bit
-        mid = 0.5 * (lo + hi)
-        if mid in (lo, hi):
-            break
-        lo, hi = (mid, hi) if _upper_tail(mid, nu) > target else (lo, mid)
-    return 0.5 * (lo + hi)
+    return _upper_quantile(alpha / 2.0, nu)
+
+
+def _upper_quantile(p: float, nu: float) -> float:
+    """k > 0 with ``P(T_ν > k) = p`` (0 < p < ½): SciPy's ``isf``, checked against ``logsf``.
+
+    Far in the tail SciPy's ``isf`` can fail while its log tail still holds (t with ν = 5 at
+    p = 5e-301 gives −inf); then ``logsf(k) = log p`` is solved for log k (Brent).
+    """
+    from scipy.optimize import brentq
+
+    dist = _distribution(nu)
+    target = math.log(p)
+    k = float(dist.isf(p))
+    if math.isfinite(k) and k > 0.0:
+        got = float(dist.logsf(k))
+        if not math.isfinite(got) or abs(got - target) <= 1e-9 * abs(target):
+            return k        # logsf underflows where isf holds (ν = 1 beyond 1e299)
+    f = lambda u: float(dist.logsf(math.exp(u))) - target
+    u = None
+    if f(709.0) < 0.0:                               # e^709: near the largest float
+        u = brentq(f, math.log(1e-300), 709.0, xtol=1e-15, rtol=1e-15)
+    if u is None or not abs(f(u)) <= 1e-9 * abs(target):
+        # ν < 1 at a tiny tail: k beyond the largest float, or beyond ~1e154 where SciPy's
+        # logsf of t returns −inf
+        raise ValueError(f"the critical value for a tail of {p:g} with dof = {nu:g} is out of "
+                         f"floating-point reach: SciPy's logsf(k) = {target:.6g} has no float "
+                         f"root k")
+    return math.exp(u)

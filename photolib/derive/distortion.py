@@ -16,8 +16,6 @@ The Jacobian with respect to (x, y) drives Newton's iteration for the inverse pr
 
 from __future__ import annotations
 
-import functools
-
 import sympy as sp
 
 from photolib.derive._spec import GeneratedFunction
@@ -140,38 +138,30 @@ def structured():
 
 _ARGS = (x, y, A1, A2, A3, r0, B1, B2, C1, C2)
 
-@functools.cache
-def codegen_functions() -> tuple:
-    """The functions to generate (built on first use: the Jacobians take a second to derive)."""
-    return (
-        GeneratedFunction(
-            name="distortion_delta",
-            args=_ARGS,
-            outputs=(("dx", delta()[0]), ("dy", delta()[1])),
-            doc="Δx', Δy' (image unit) at the reduced measured coordinates x, y (image unit).",
-        ),
-        GeneratedFunction(
-            name="distortion_delta_and_jacobian",
-            args=_ARGS,
-            intermediates=structured()[0],
-            outputs=structured()[1],
-            doc="Δx', Δy' and their derivatives with respect to x and y (dimensionless), "
-                "for Newton's iteration; r² = x² + y², q(r²) and q'(r²) in Horner form.",
-        ),
-        GeneratedFunction(
-            name="distortion_jacobian_params",
-            args=_ARGS,
-            outputs=tuple((f"d{axis}_d{name}", jacobian_params()[i, j])
-                          for j, name in enumerate(PARAMETERS)
-                          for i, axis in enumerate(("x", "y"))),
-            doc="∂Δx'/∂p, ∂Δy'/∂p for p in (A1, A2, A3, B1, B2, C1, C2), for self-calibration.",
-        ),
-    )
-
-
-def __getattr__(name):
-    # ``CODEGEN`` is computed lazily so that importing this module (e.g. in a chapter
-    # notebook) does not pay for deriving every Jacobian
-    if name == "CODEGEN":
-        return codegen_functions()
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+#: the functions to generate; built on import (polynomials and their Jacobians: 0.15 s, so
+#: unlike :mod:`~photolib.derive.rotation` and :mod:`~photolib.derive.collinearity` nothing
+#: here is worth deferring)
+CODEGEN = (
+    GeneratedFunction(
+        name="distortion_delta",
+        args=_ARGS,
+        outputs=(("dx", delta()[0]), ("dy", delta()[1])),
+        doc="Δx', Δy' (image unit) at the reduced measured coordinates x, y (image unit).",
+    ),
+    GeneratedFunction(
+        name="distortion_delta_and_jacobian",
+        args=_ARGS,
+        intermediates=structured()[0],
+        outputs=structured()[1],
+        doc="Δx', Δy' and their derivatives with respect to x and y (dimensionless), "
+            "for Newton's iteration; r² = x² + y², q(r²) and q'(r²) in Horner form.",
+    ),
+    GeneratedFunction(
+        name="distortion_jacobian_params",
+        args=_ARGS,
+        outputs=tuple((f"d{axis}_d{name}", jacobian_params()[i, j])
+                      for j, name in enumerate(PARAMETERS)
+                      for i, axis in enumerate(("x", "y"))),
+        doc="∂Δx'/∂p, ∂Δy'/∂p for p in (A1, A2, A3, B1, B2, C1, C2), for self-calibration.",
+    ),
+)

@@ -171,7 +171,7 @@ def dof_report(k: float = 8.0, focus_m: float = 5.0, u_um: float = U_MM * 1e3,
 
 @functools.lru_cache(maxsize=1)
 def _airy_table():
-    """The Airy pattern on v = πr/(λk) ∈ [0, 40], computed once with photolib's Bessel J1."""
+    """The Airy pattern on v = πr/(λk) ∈ [0, 40], computed once with SciPy's Bessel J1."""
     v = np.linspace(0.0, 40.0, 4001)
     return v, np.asarray(po.airy_psf(v, np.pi, 1.0))  # λk = π: r = v
 

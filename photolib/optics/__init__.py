@@ -11,10 +11,11 @@ glass catalogues). Angles are radians. Distances a, a' are positive, measured fr
 Arrays broadcast: each function accepts scalars or arrays and returns a float for scalar input.
 
 Modules: :mod:`~photolib.optics._thin_lens` (imaging equation, angles, f-number, depth of
-field), :mod:`~photolib.optics._diffraction` (Bessel J_n, Airy pattern, edge and grating),
+field), :mod:`~photolib.optics._diffraction` (Airy pattern, edge and grating),
 :mod:`~photolib.optics._refraction` (Snell, reflection, dispersion),
 :mod:`~photolib.optics._vignetting` (cos⁴ law) and :mod:`~photolib.optics._stereo_acuity`;
-every name is importable from :mod:`photolib.optics`.
+every name is importable from :mod:`photolib.optics`. ``bessel_jn`` is deprecated (use
+``scipy.special.jv``): it still imports from here, warns when called and is not in ``__all__``.
 """
 
 from photolib.optics._diffraction import (
@@ -22,7 +23,7 @@ from photolib.optics._diffraction import (
     airy_encircled_energy,
     airy_psf,
     airy_radius,
-    bessel_jn,
+    bessel_jn,  # noqa: F401 - deprecated (scipy.special.jv), kept for one release
     edge_diffraction,
     edge_first_fringe,
     grating_angles,
@@ -70,7 +71,6 @@ __all__ = [
     "airy_encircled_energy",
     "airy_psf",
     "airy_radius",
-    "bessel_jn",
     "edge_diffraction",
     "edge_first_fringe",
     "grating_angles",

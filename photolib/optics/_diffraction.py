@@ -7,7 +7,7 @@ wavelength λ share one unit. With ``v = π·r/(λ·k)``:
 * Airy radius (first dark ring) ``r_A = (j₁,₁/π)·λ·k ≈ 1.22·λ·k``,
 * encircled energy ``E(r) = 1 − J0(v)² − J1(v)²``.
 
-J_n comes from Bessel's integral (NumPy only, no SciPy).
+J0 and J1 come from SciPy (``scipy.special.jv``, imported on first use).
 """
 
 from __future__ import annotations
@@ -24,50 +24,43 @@ J1_FIRST_ZERO = 3.8317059702075125
 
 # -- diffraction ----------------------------------------------------------------------------------
 
-def bessel_jn(n: int, x):
-    """Bessel function of the first kind J_n(x) of integer order, NumPy only.
+def _jn(n: int, v):
+    """J_n(v) of integer order n ≥ 0 from SciPy (``scipy.special.jv``), for the Airy formulas."""
+    from scipy.special import jv
 
-    Bessel's integral, evaluated with the trapezoidal rule; the integrand is smooth and
-    periodic, so the rule converges exponentially (about N > e|x|/2 + 30 nodes reach machine
-    precision, chosen from the largest |x|).
+    return jv(n, v)
+
+
+def bessel_jn(n: int, x):
+    """Bessel function of the first kind J_n(x) of integer order (deprecated).
+
+    .. deprecated:: 0.1.0
+        Use ``scipy.special.jv(n, x)``; this name delegates to it and is removed in the next
+        release. It was Bessel's integral by the trapezoidal rule while the library was
+        NumPy-only.
 
     .. math:: J_n(x) = \\frac1\\pi \\int_0^\\pi \\cos(n\\tau - x\\sin\\tau)\\,d\\tau
 
     Parameters
     ----------
     n : int
-        Order n, an integer ≥ 0 (0 and 1 for the Airy pattern); an integral float such as
-        ``2.0`` is accepted, anything else (an array, inf, NaN, 1.5) raises ``ValueError``.
+        Order n, an integer ≥ 0; an integral float such as ``2.0`` is accepted, anything
+        else (an array, inf, NaN, 1.5) raises ``ValueError``.
     x : float or array_like, any shape
-        Argument, dimensionless, finite (for the Airy pattern ``v = π·r/(λ·k)``).
+        Argument, dimensionless, finite.
 
     Returns
     -------
     float or ndarray
         J_n(x), dimensionless, same shape as ``x`` (a float for scalar ``x``).
-
-    Examples
-    --------
-    >>> round(bessel_jn(1, J1_FIRST_ZERO), 12)
-    0.0
-    >>> round(bessel_jn(0, 0.0), 12)
-    1.0
-    >>> np.round(bessel_jn(0, [0.0, 1.0]), 6).tolist()   # tables: J0(1) = 0.765198
-    [1.0, 0.765198]
     """
+    import warnings
+
+    warnings.warn("photolib.bessel_jn is deprecated and will be removed in the next release; "
+                  "use scipy.special.jv(n, x)", DeprecationWarning, stacklevel=2)
     n = as_int(n, "order n", minimum=0)
     x = _finite(_array(x, "x"), "x")
-    nodes = int(1.4 * float(np.max(np.abs(x), initial=0.0))) + 40 + int(n)
-    tau = np.linspace(0.0, np.pi, nodes + 1)
-    w = np.full(nodes + 1, 1.0 / nodes)
-    w[[0, -1]] *= 0.5
-    flat = x.ravel()
-    out = np.empty_like(flat)
-    step = max(1, 2_000_000 // (nodes + 1))
-    for i in range(0, flat.size, step):
-        chunk = flat[i:i + step, None]
-        out[i:i + step] = np.cos(n * tau - chunk * np.sin(tau)) @ w
-    return _out(out.reshape(x.shape))
+    return _out(_jn(n, x))
 
 
 def airy_radius(wavelength, k):
@@ -150,7 +143,7 @@ def airy_psf(r, wavelength, k):
     """
     v = _airy_v(r, wavelength, k)
     safe = np.where(v == 0.0, 1.0, v)
-    return _out(np.where(v == 0.0, 1.0, (2.0 * np.asarray(bessel_jn(1, safe)) / safe) ** 2))
+    return _out(np.where(v == 0.0, 1.0, (2.0 * _jn(1, safe) / safe) ** 2))
 
 
 def airy_encircled_energy(r, wavelength, k):
@@ -184,7 +177,7 @@ def airy_encircled_energy(r, wavelength, k):
     0.999
     """
     v = _airy_v(r, wavelength, k)
-    return _out(1.0 - np.asarray(bessel_jn(0, v)) ** 2 - np.asarray(bessel_jn(1, v)) ** 2)
+    return _out(1.0 - _jn(0, v) ** 2 - _jn(1, v) ** 2)
 
 
 # -- diffraction at a straight edge and at a grating ----------------------------------------------

@@ -17,7 +17,7 @@
   one observation → Pope's τ of it.
 
 References: :func:`photolib.derive.adjustment.block_redundancy` (counts),
-:func:`photolib.bundle.critical_value` (NumPy/math, checked against SciPy in the tests).
+:func:`photolib.bundle.critical_value` (SciPy's distributions, checked against mpmath in the tests).
 
 >>> [ex.id for ex in EXERCISES]
 ['bun.redundancy', 'bun.sigma0', 'bun.redundancy-sum', 'bun.critical-t', 'bun.normal-contribution', 'bun.gauss-newton-step', 'bun.sigma0-redundancy', 'bun.count-n', 'bun.count-u', 'bun.count-r', 'bun.snoop-sigma0', 'bun.snoop-w', 'bun.snoop-tau']
