@@ -3,10 +3,12 @@
 After the notebook has run, the grader executes code it generated itself. It carries a fresh
 random nonce, reads ``STUDENT_ID`` and the answer variables, calls student functions on the
 hidden inputs (each call under a SIGALRM time limit) and publishes one display message of
-MIME type :data:`~photolib.grading.sandbox.RESULT_MIME` holding JSON. The encoder is
-injected as source, so nothing the notebook patched in ``photolib`` is used. The grader
-accepts exactly one message carrying the nonce, in reply to this very request; anything the
-notebook may forge can only report answers, which are then judged like any other answers.
+MIME type :data:`~photolib.grading.sandbox.RESULT_MIME` holding JSON. What it runs is
+:mod:`photolib.grading._kernel_side` and the encoder, injected as source from the grader's
+own files and executed in a fresh namespace, so nothing the notebook patched in
+``photolib`` is used. The grader accepts exactly one message carrying the nonce, in reply to
+this very request; anything the notebook may forge can only report answers, which are then
+judged like any other answers.
 """
 
 from __future__ import annotations
@@ -14,6 +16,7 @@ from __future__ import annotations
 import inspect
 import json
 import secrets
+from importlib import resources
 
 import numpy as np
 
@@ -24,7 +27,7 @@ from photolib.grading.sandbox import RESULT_MIME
 
 __all__ = ["ExtractionError", "answer_record", "build_extraction", "case_from_json",
            "case_to_json", "decode_item", "extraction_seconds", "judge_item",
-           "record_student_id"]
+           "kernel_source", "record_student_id"]
 
 CALL_SECONDS = 5.0
 VALUE_SECONDS = 5.0
@@ -61,162 +64,38 @@ def build_extraction(requests: list[dict], seconds: float | None = None) -> tupl
     nonce = secrets.token_hex(16)
     if seconds is None:
         seconds = extraction_seconds(requests)
-    source = "\n".join([inspect.getsource(encode.encode_value), inspect.getsource(encode._tree)])
+    call = json.dumps({"nonce": nonce, "requests": requests, "seconds": float(seconds),
+                       "mime": RESULT_MIME, "call_seconds": CALL_SECONDS,
+                       "value_seconds": VALUE_SECONDS, "max_bytes": MAX_ANSWER_BYTES},
+                      allow_nan=False)
+    # the fresh namespace's builtins are the kernel's own; nothing is looked up in the
+    # notebook's namespace but exec, compile and get_ipython (to find that namespace)
     code = f'''
 def _photolib_extract_{nonce}():
-    import json as _json, signal as _signal, sys as _sys, os as _os, io as _io
-    import select as _select, time as _time
-{_indent(source)}
-    def _alarm(signum, frame):
-        raise TimeoutError("the function took longer than {CALL_SECONDS:g} s")
+    _kernel_side = {{"__name__": "_photolib_kernel_side"}}
+    exec(compile({kernel_source()!r}, "<photolib.grading._kernel_side>", "exec"), _kernel_side)
     try:
-        _ns = get_ipython().user_ns
+        _user_ns = get_ipython().user_ns
     except NameError:
-        _ns = vars(_sys.modules["__main__"])
-    _requests = _json.loads({json.dumps(json.dumps(requests))})
-    _end = _time.monotonic() + {float(seconds)!r}
-
-    def _encode_one(_r, _emit):
-        _value = _ns.get(_r["name"])
-        if _r["cases"] is None:
-            try:
-                _emit({{"value": encode_value(_value)}})
-            except Exception as _e:
-                _emit({{"error": type(_e).__name__}})
-            return
-        if not callable(_value):
-            _emit({{"value": {{"t": "none"}}}})
-            return
-        _signal.signal(_signal.SIGALRM, _alarm)
-        for _args in _r["cases"]:
-            try:
-                if any(isinstance(_a, dict) for _a in _args):
-                    import numpy as _np
-                    _args = [_np.array(_a["array"], dtype=float) if isinstance(_a, dict)
-                             else _a for _a in _args]
-                _signal.setitimer(_signal.ITIMER_REAL, {CALL_SECONDS})
-                try:
-                    _res = _value(*_args)
-                finally:
-                    _signal.setitimer(_signal.ITIMER_REAL, 0)
-                _emit({{"output": encode_value(_res)}})
-            except NotImplementedError:
-                _emit({{"output": {{"t": "none"}}}})
-            except TimeoutError as _e:
-                _emit({{"error": "your function raised TimeoutError: " + str(_e)[:200]}})
-                return
-            except Exception as _e:
-                # a degenerate input's right answer may be an error (judged as Raised)
-                _emit({{"output": {{"t": "raised", "type": type(_e).__name__,
-                                   "ve": isinstance(_e, ValueError), "m": str(_e)[:200]}}}})
-            except BaseException as _e:
-                _emit({{"error": "your function raised " + type(_e).__name__ + ": "
-                                 + str(_e)[:200]}})
-                return
-
-    def _collect(_events, _r):
-        if _r["cases"] is None:
-            for _ev in _events:
-                return _ev
-            return {{"error": "no value"}}
-        _outputs, _error = [], None
-        for _ev in _events:
-            if "value" in _ev:
-                return _ev
-            if "output" in _ev:
-                _outputs.append(_ev["output"])
-            elif "error" in _ev:
-                _error = _ev["error"]
-        return {{"outputs": _outputs, "error": _error}}
-
-    def _in_process(_r):
-        _events = []
-        _encode_one(_r, _events.append)
-        return _collect(_events, _r)
-
-    def _isolated(_r, _seconds):
-        try:
-            _rfd, _wfd = _os.pipe()
-        except OSError:
-            return _in_process(_r)
-        try:
-            _pid = _os.fork()
-        except OSError:
-            _os.close(_rfd)
-            _os.close(_wfd)
-            return _in_process(_r)
-        if _pid == 0:
-            try:
-                _os.close(_rfd)
-                _sys.stdout = _sys.stderr = _io.StringIO()
-                def _emit(_ev):
-                    _view = memoryview((_json.dumps(_ev) + "\\n").encode())
-                    while _view:
-                        _view = _view[_os.write(_wfd, _view):]
-                try:
-                    _encode_one(_r, _emit)
-                except BaseException as _e:
-                    _emit({{"error": "reading the answer failed: " + type(_e).__name__}})
-            finally:
-                _os._exit(0)
-        _os.close(_wfd)
-        _buf, _events, _late, _size = b"", [], False, 0
-        _deadline = min(_time.monotonic() + _seconds, _end)
-        try:
-            while True:
-                _left = _deadline - _time.monotonic()
-                if _left <= 0:
-                    _late = True
-                    break
-                _ready, _, _ = _select.select([_rfd], [], [], _left)
-                if not _ready:
-                    continue
-                _chunk = _os.read(_rfd, 1 << 16)
-                if not _chunk:
-                    break
-                _size += len(_chunk)
-                if _size > {MAX_ANSWER_BYTES}:
-                    _late = True
-                    break
-                _buf += _chunk
-                while b"\\n" in _buf:
-                    _line, _buf = _buf.split(b"\\n", 1)
-                    _events.append(_json.loads(_line))
-                    _deadline = min(_time.monotonic() + _seconds, _end)  # next call afresh
-        finally:
-            _os.close(_rfd)
-            if _late:
-                try:
-                    _os.kill(_pid, _signal.SIGKILL)
-                except OSError:
-                    pass
-            _os.waitpid(_pid, 0)
-        if _late and _time.monotonic() >= _end:
-            _events.append({{"error": "the submission's time limit was reached while this "
-                                      "answer was read, and it was stopped"}})
-        elif _late:
-            _what = "your function" if _r["cases"] is not None else "reading the answer"
-            _events.append({{"error": _what + " took longer than " + str(_seconds)
-                                      + " s or gave too much data, and was stopped"}})
-        return _collect(_events, _r)
-
-    _sid = _ns.get("STUDENT_ID")
-    _sid = {{"t": "str", "v": str.__getitem__(_sid, slice(0, 1000))}} if type(_sid) is str \
-        else {{"t": "none"}}
-    _out = {{"nonce": {nonce!r}, "student_id": _sid, "answers": {{}}}}
-    for _r in _requests:
-        _seconds = {CALL_SECONDS + 1:g} if _r["cases"] is not None else {VALUE_SECONDS:g}
-        if _time.monotonic() >= _end:
-            _out["answers"][_r["name"]] = {{"error": "the submission's time limit was reached "
-                                                     "before this answer was read"}}
-            continue
-        _out["answers"][_r["name"]] = _isolated(_r, _seconds)
-    from IPython.display import publish_display_data
-    publish_display_data({{{RESULT_MIME!r}: _out}})
+        import sys
+        _user_ns = vars(sys.modules["__main__"])
+    _kernel_side["run"](_user_ns, {call!r}, _kernel_side["encode_value"])
 _photolib_extract_{nonce}()
 del _photolib_extract_{nonce}
 '''
     return code, nonce
+
+
+def kernel_source() -> str:
+    """Source executed in the kernel: :mod:`._kernel_side` and the encoder it is given.
+
+    Read from the grader's own files (never imported in the kernel): the module, then
+    :func:`~photolib.grading.encode.encode_value` and the helper it calls.
+    """
+    module = resources.files("photolib.grading").joinpath("_kernel_side.py")
+    return "\n\n".join([module.read_text(encoding="utf-8"),
+                         inspect.getsource(encode.encode_value),
+                         inspect.getsource(encode._tree)])
 
 
 def extraction_seconds(requests: list[dict]) -> float:
@@ -244,10 +123,6 @@ def case_to_json(args) -> list:
 def case_from_json(args) -> tuple:
     """Inverse of :func:`case_to_json`: the arguments the reference function is called with."""
     return tuple(np.array(a["array"], dtype=float) if isinstance(a, dict) else a for a in args)
-
-
-def _indent(source: str) -> str:
-    return "\n".join("    " + line for line in source.splitlines())
 
 
 def answer_record(payloads: list, nonce: str) -> dict:

@@ -42,6 +42,7 @@ from pathlib import Path
 
 import zmq
 from jupyter_client import KernelManager
+from jupyter_core.utils import run_sync
 from zmq.utils.monitor import recv_monitor_message
 
 from photolib.grading.cgroups import KernelCgroup, _cgroup_root
@@ -459,9 +460,9 @@ class SandboxedKernel:
         kc.context = self._context
         kc.start_channels()
         self._monitors = []
-        for name, channel in (("iopub", kc.iopub_channel), ("shell", kc.shell_channel)):
+        for channel in (kc.iopub_channel, kc.shell_channel):
             monitor = channel.socket.get_monitor_socket(zmq.EVENT_DISCONNECTED)
-            self._monitors.append((channel.socket, kc._make_url(name), monitor))
+            self._monitors.append((channel.socket, _channel_url(channel), monitor))
         self.kc = kc
         kc.wait_for_ready(timeout=ready_timeout)
 
@@ -499,7 +500,7 @@ class SandboxedKernel:
         """
         self._killed = True
         km = self.km
-        process = getattr(getattr(km, "provisioner", None), "process", None)
+        process = _kernel_process(km)
         if process is not None and process.poll() is None:
             for kill in (os.killpg, os.kill):  # its own session: the group is the kernel's
                 try:
@@ -647,10 +648,39 @@ class SandboxedKernel:
                 return time.monotonic()
 
 
+def _channel_url(channel) -> str:
+    """The address a client channel's socket is connected to (to connect it again).
+
+    pyzmq's public ``LAST_ENDPOINT`` of the socket, where jupyter_client's
+    ``KernelClient._make_url`` would be private.
+    """
+    return channel.socket.get(zmq.LAST_ENDPOINT).decode()
+
+
+def _kernel_process(km: KernelManager | None):
+    """The ``subprocess.Popen`` of the process ``km`` launched, or None.
+
+    The one use of a jupyter_client internal (``LocalProvisioner.process``): its public ways
+    to signal a kernel (``KernelManager.signal_kernel``, the provisioner's ``send_signal``
+    and ``kill``) are coroutines run on the calling thread's event loop, and
+    :meth:`SandboxedKernel.kill` must act at once from any thread while another thread uses
+    the manager. ``test_sandbox_hardening.py`` checks it against the installed version.
+    """
+    return getattr(getattr(km, "provisioner", None), "process", None)
+
+
+def _exit_code(km: KernelManager) -> int | None:
+    """Exit status of the kernel's process (negative: killed by that signal); None while it
+    runs or when none was launched. Through the provisioner's public ``poll``."""
+    if not km.has_kernel:
+        return None
+    return run_sync(km.provisioner.poll)()
+
+
 def _death_reason(km: KernelManager) -> str:
     code = None
     try:
-        code = km.provisioner.process.poll() if km.provisioner else None
+        code = _exit_code(km)
     except Exception:  # noqa: BLE001
         pass
     if code is not None and code < 0:

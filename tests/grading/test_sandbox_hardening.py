@@ -334,6 +334,49 @@ def test_sandbox_support_says_what_is_missing():
         assert not (s.private_tmp or s.hide_processes or s.cgroup or s.no_new_privs)
 
 
+# -- the jupyter_client interfaces the sandbox relies on ---------------------------------------
+def test_a_channel_url_is_where_the_client_connected(tmp_path):
+    """The address a dropped channel is connected to again: ipc://IP-PORT (jupyter_client's
+    naming of an ipc endpoint) of the port in the connection file."""
+    km = sandbox._Manager(transport="ipc", ip=str(tmp_path / "k"),
+                          connection_file=str(tmp_path / "kernel.json"))
+    km.write_connection_file()
+    ports = km.get_connection_info()
+    kc = km.blocking_client()
+    kc.start_channels(hb=False)
+    try:
+        assert sandbox._channel_url(kc.iopub_channel) == \
+            f"ipc://{tmp_path}/k-{ports['iopub_port']}"
+        assert sandbox._channel_url(kc.shell_channel) == \
+            f"ipc://{tmp_path}/k-{ports['shell_port']}"
+    finally:
+        kc.stop_channels()
+        km.cleanup_resources()
+
+
+@pytest.mark.parametrize("script, reason", [
+    ("import os, signal; os.kill(os.getpid(), signal.SIGKILL)", "kernel killed by SIGKILL"),
+    ("import sys; sys.exit(3)", "kernel exited with code 3"),
+])
+def test_the_kernel_process_and_its_end_are_read(tmp_path, script, reason):
+    """The Popen behind the manager (the one private attribute used) and the exit status."""
+    km = sandbox._Manager(transport="ipc", ip=str(tmp_path / "k"),
+                          connection_file=str(tmp_path / "kernel.json"))
+    km.sandbox_cmd = [sys.executable, "-c", "import sys; sys.stdin.read(); " + script]
+    assert sandbox._kernel_process(km) is None and sandbox._death_reason(km) == "kernel died"
+    km.start_kernel(cwd=str(tmp_path), stdin=subprocess.PIPE)
+    try:
+        process = sandbox._kernel_process(km)
+        assert isinstance(process, subprocess.Popen) and process.args == km.sandbox_cmd
+        assert process.poll() is None and sandbox._exit_code(km) is None and km.is_alive()
+        process.stdin.close()  # the process goes on to its end
+        process.wait(timeout=30)
+        assert not km.is_alive()
+        assert sandbox._death_reason(km) == reason
+    finally:
+        km.shutdown_kernel(now=True)
+
+
 # -- reading a submission without running it ---------------------------------------------------
 
 _STATIC_READ = """
