@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from photolib._docs import shared_doc
 from photolib._validate import (
     as_float_array,
     as_max_iter,
@@ -71,6 +72,14 @@ def _rotation_derivatives(w, p, k):
     dRk = np.array([[-sk, -ck, 0], [ck, -sk, 0], [0, 0, 0]])
     return Rw @ Rp @ Rk, (dRw @ Rp @ Rk, Rw @ dRp @ Rk, Rw @ Rp @ dRk)
 
+#: parameters shared by both relative orientations (see :func:`photolib._docs.shared_doc`)
+_PAIR_POINTS = """xy1, xy2 : array_like, shape (N, 2)
+    Corresponding image points (image unit), N ≥ 5.
+c : float
+    Camera constant > 0 of both images (image unit)."""
+_PRINCIPAL_POINT = """x0, y0 : float
+    Principal point of both images."""
+
 
 def coplanarity_residuals(q, r1, x2, bx, c):
     """Coplanarity residuals ``det[b, r1, R2·x*2]/(bx·c)`` and their Jacobian (N, 5).
@@ -91,6 +100,7 @@ def coplanarity_residuals(q, r1, x2, bx, c):
     return f, J
 
 
+@shared_doc(pair_points=_PAIR_POINTS, principal_point=_PRINCIPAL_POINT)
 def relative_orientation(xy1, xy2, c, bx: float = 1.0, x0=0.0, y0=0.0, initial=None, *,
                          tol: float = 1e-12, max_iter: int = 30,
                          check: bool = True) -> RelativeOrientation:
@@ -102,14 +112,10 @@ def relative_orientation(xy1, xy2, c, bx: float = 1.0, x0=0.0, y0=0.0, initial=N
 
     Parameters
     ----------
-    xy1, xy2 : array_like, shape (N, 2)
-        Corresponding image points (image unit), N ≥ 5.
-    c : float
-        Camera constant > 0 of both images (image unit).
+    {pair_points}
     bx : float
         Fixed base component (model unit), ≠ 0; its sign says on which side image 2 is.
-    x0, y0 : float
-        Principal point of both images.
+    {principal_point}
     initial : array_like, shape (5,), optional
         Start (by, bz, ω2, φ2, κ2); default zeros (near the normal case).
     tol, max_iter, check
@@ -322,6 +328,7 @@ def independent_coplanarity_residuals(q, x1, x2, c):
     return f, J
 
 
+@shared_doc(pair_points=_PAIR_POINTS, principal_point=_PRINCIPAL_POINT)
 def independent_relative_orientation(xy1, xy2, c, bx: float = 1.0, x0=0.0, y0=0.0,
                                      initial=None, *, tol: float = 1e-12, max_iter: int = 30,
                                      check: bool = True) -> IndependentRelativeOrientation:
@@ -334,14 +341,10 @@ def independent_relative_orientation(xy1, xy2, c, bx: float = 1.0, x0=0.0, y0=0.
 
     Parameters
     ----------
-    xy1, xy2 : array_like, shape (N, 2)
-        Corresponding image points (image unit), N ≥ 5.
-    c : float
-        Camera constant > 0 of both images (image unit).
+    {pair_points}
     bx : float
         Base length (model unit), ≠ 0; it sets the model scale and its sign the side of image 2.
-    x0, y0 : float
-        Principal point of both images.
+    {principal_point}
     initial : array_like, shape (5,), optional
         Start (φ1, κ1, ω2, φ2, κ2); default zeros (near the normal case).
     tol, max_iter, check
