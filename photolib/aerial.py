@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from photolib._docs import shared_doc
 from photolib._validate import as_points, as_scalar
 
 __all__ = ["EARTH_RADIUS", "NADIR_MOUNT", "NED_TO_ENU", "earth_curvature_correction",
@@ -36,23 +37,28 @@ __all__ = ["EARTH_RADIUS", "NADIR_MOUNT", "NED_TO_ENU", "earth_curvature_correct
 #: mean earth radius, m (IUGG)
 EARTH_RADIUS = 6_371_000.0
 
+#: the parameters ``xy, c`` of the image corrections
+_XY_C = """xy : array_like, shape (N, 2) or (2,)
+    Image coordinates reduced to the principal point, mm (distortion already corrected).
+c : float
+    Camera constant, mm, > 0."""
+
 
 def _radial(xy, c):
+    """Checked image points (N, 2), the single-point flag, ``c`` (mm) and ``r'²`` (N, 1), mm²."""
     pts, single = as_points(xy, 2, "xy")
     c = as_scalar(c, "camera constant c", positive=True)
     r2 = np.sum(pts**2, axis=1, keepdims=True)
     return pts, single, c, r2
 
 
+@shared_doc(xy_c=_XY_C)
 def earth_curvature_correction(xy, c, flying_height, radius=EARTH_RADIUS):
     """Image coordinates with the earth curvature removed (to the tangent plane at the nadir).
 
     Parameters
     ----------
-    xy : array_like, shape (N, 2) or (2,)
-        Image coordinates reduced to the principal point, mm (distortion already corrected).
-    c : float
-        Camera constant, mm, > 0.
+    {xy_c}
     flying_height : float
         Flying height above the ground H, m, > 0.
     radius : float
@@ -151,15 +157,13 @@ def refraction_constant(flying_height, ground_height=0.0, model="icao"):
     return float(np.sum(weights * excess) / 2.0)
 
 
+@shared_doc(xy_c=_XY_C)
 def refraction_correction(xy, c, K):
     """Image coordinates with the atmospheric refraction removed.
 
     Parameters
     ----------
-    xy : array_like, shape (N, 2) or (2,)
-        Image coordinates reduced to the principal point, mm (distortion already corrected).
-    c : float
-        Camera constant, mm, > 0.
+    {xy_c}
     K : float
         Refraction constant (:func:`refraction_constant`), ≥ 0 and below 10⁻³.
 

@@ -20,153 +20,71 @@ def _angle(a):
     return as_array(a, "a", finite=False)
 
 
-def deg2rad(a):
-    """Degrees → radians, ``a·π/180``.
+#: unit → (its name in a sentence, its description as the input of a conversion)
+_UNITS = {"rad": ("radians", "radians"),
+          "deg": ("degrees", "degrees (°, 360° per turn)"),
+          "gon": ("gon", "gon (Neugrad, 400 gon per turn)")}
+
+
+def _conversion(src: str, dst: str, factor: str, example: str):
+    """Decorator: the numpydoc docstring of the conversion ``src → dst``, ``a·factor``.
+
+    ``src``, ``dst``: keys of ``_UNITS``; ``factor``: the factor as printed (``π/180``);
+    ``example``: the doctest, its ``>>>`` line and its output. One text for all six
+    conversions, so that their documentation cannot drift apart.
+    """
+    def decorate(func):
+        func.__doc__ = f"""{_UNITS[src][0].capitalize()} → {_UNITS[dst][0]}, ``a·{factor}``.
 
     Parameters
     ----------
     a : float or array_like, any shape
-        Angle in degrees (°, 360° per turn).
+        Angle in {_UNITS[src][1]}.
 
     Returns
     -------
     ndarray of float, same shape as ``a``
-        The angle in radians; a NumPy float (``np.float64``) for a scalar input.
+        The angle in {_UNITS[dst][1]}; a NumPy float (``np.float64``) for a scalar input.
 
     Notes
     -----
-    .. math:: a_{\\mathrm{rad}} = a_{\\mathrm{deg}}\\,π/180
+    .. math:: a_{{\\mathrm{{{dst}}}}} = a_{{\\mathrm{{{src}}}}}\\,{factor}
 
     Examples
     --------
-    >>> float(deg2rad(180.0))
-    3.141592653589793
+    {example}
     """
+        return func
+    return decorate
+
+
+@_conversion("deg", "rad", "π/180", ">>> float(deg2rad(180.0))\n    3.141592653589793")
+def deg2rad(a):
     return _angle(a) / 180.0 * np.pi
 
 
+@_conversion("rad", "deg", "180/π", ">>> float(rad2deg(np.pi / 2))\n    90.0")
 def rad2deg(a):
-    """Radians → degrees, ``a·180/π``.
-
-    Parameters
-    ----------
-    a : float or array_like, any shape
-        Angle in radians.
-
-    Returns
-    -------
-    ndarray of float, same shape as ``a``
-        The angle in degrees (°, 360° per turn); a NumPy float (``np.float64``) for a scalar input.
-
-    Notes
-    -----
-    .. math:: a_{\\mathrm{deg}} = a_{\\mathrm{rad}}\\,180/π
-
-    Examples
-    --------
-    >>> float(rad2deg(np.pi / 2))
-    90.0
-    """
     return _angle(a) / np.pi * 180.0
 
 
+@_conversion("gon", "rad", "π/200", ">>> float(gon2rad(100.0)) == np.pi / 2\n    True")
 def gon2rad(a):
-    """Gon → radians, ``a·π/200``.
-
-    Parameters
-    ----------
-    a : float or array_like, any shape
-        Angle in gon (Neugrad, 400 gon per turn).
-
-    Returns
-    -------
-    ndarray of float, same shape as ``a``
-        The angle in radians; a NumPy float (``np.float64``) for a scalar input.
-
-    Notes
-    -----
-    .. math:: a_{\\mathrm{rad}} = a_{\\mathrm{gon}}\\,π/200
-
-    Examples
-    --------
-    >>> float(gon2rad(100.0)) == np.pi / 2
-    True
-    """
     return _angle(a) / 200.0 * np.pi
 
 
+@_conversion("rad", "gon", "200/π", ">>> float(rad2gon(np.pi))\n    200.0")
 def rad2gon(a):
-    """Radians → gon, ``a·200/π``.
-
-    Parameters
-    ----------
-    a : float or array_like, any shape
-        Angle in radians.
-
-    Returns
-    -------
-    ndarray of float, same shape as ``a``
-        The angle in gon (Neugrad, 400 gon per turn); a NumPy float (``np.float64``) for a scalar input.
-
-    Notes
-    -----
-    .. math:: a_{\\mathrm{gon}} = a_{\\mathrm{rad}}\\,200/π
-
-    Examples
-    --------
-    >>> float(rad2gon(np.pi))
-    200.0
-    """
     return _angle(a) / np.pi * 200.0
 
 
+@_conversion("deg", "gon", "400/360", ">>> float(deg2gon(90.0))\n    100.0")
 def deg2gon(a):
-    """Degrees → gon, ``a·400/360``.
-
-    Parameters
-    ----------
-    a : float or array_like, any shape
-        Angle in degrees (°, 360° per turn).
-
-    Returns
-    -------
-    ndarray of float, same shape as ``a``
-        The angle in gon (Neugrad, 400 gon per turn); a NumPy float (``np.float64``) for a scalar input.
-
-    Notes
-    -----
-    .. math:: a_{\\mathrm{gon}} = a_{\\mathrm{deg}}\\,400/360
-
-    Examples
-    --------
-    >>> float(deg2gon(90.0))
-    100.0
-    """
     return _angle(a) * (400.0 / 360.0)
 
 
+@_conversion("gon", "deg", "360/400", ">>> float(gon2deg(50.0))\n    45.0")
 def gon2deg(a):
-    """Gon → degrees, ``a·360/400``.
-
-    Parameters
-    ----------
-    a : float or array_like, any shape
-        Angle in gon (Neugrad, 400 gon per turn).
-
-    Returns
-    -------
-    ndarray of float, same shape as ``a``
-        The angle in degrees (°, 360° per turn); a NumPy float (``np.float64``) for a scalar input.
-
-    Notes
-    -----
-    .. math:: a_{\\mathrm{deg}} = a_{\\mathrm{gon}}\\,360/400
-
-    Examples
-    --------
-    >>> float(gon2deg(50.0))
-    45.0
-    """
     return _angle(a) * (360.0 / 400.0)
 
 

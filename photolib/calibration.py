@@ -343,6 +343,26 @@ def plumb_line(lines, *, c, r0=None, terms=("A1", "A2"), principal_point=(0.0, 0
     # step of each unknown → largest displacement it causes (mm)
     effect = np.concatenate([rmax ** np.array([_POWER[t] for t in terms]) / unit,
                              np.tile([rmax, 1.0], L)])
+    q, theta, dist, it, converged = _plumb_line_iterate(xy, k, theta, dist, r0, terms, unit,
+                                                        effect, tol, max_iter, check)
+    return _plumb_line_result(xy, k, theta, dist, r0, terms, q / unit, pts, it, converged,
+                              redundancy, c, pp)
+
+
+def _plumb_line_iterate(xy, k, theta, dist, r0, terms, unit, effect, tol, max_iter, check):
+    """Gauss–Newton of :func:`plumb_line`: minimise ``vᵀv`` over the distortion and the lines.
+
+    Unknowns: the dimensionless parameters ``q = A_k·c^(2k), B·c`` (``q / unit`` in the model's
+    units), from 0, and each line's normal angle ``theta`` (rad) and distance ``dist`` (mm),
+    from the given start (updated in place). The columns of the design matrix are scaled to
+    unit norm before the least-squares step; in the first iteration a smallest singular value
+    below 1e-9 of the largest raises :class:`DegenerateGeometryError` naming the undetermined
+    parameter. Converged when ``max |step| · effect < tol`` (mm: the largest displacement
+    of a point each unknown's step causes). Returns ``(q, theta, dist, iterations,
+    converged)``; not converged within ``max_iter`` raises :class:`ConvergenceError` when
+    ``check``.
+    """
+    p = len(terms)
     q = np.zeros(p)
     converged, it = False, 0
     for it in range(1, max_iter + 1):
@@ -371,7 +391,20 @@ def plumb_line(lines, *, c, r0=None, terms=("A1", "A2"), principal_point=(0.0, 0
         raise ConvergenceError(f"plumb-line adjustment did not converge within max_iter="
                                f"{max_iter} (last step moves a point by "
                                f"{np.max(np.abs(step) * effect):.3g} mm > tol={tol:g})")
-    model = Distortion(r0=r0, **dict(zip(terms, q / unit)))
+    return q, theta, dist, it, converged
+
+
+def _plumb_line_result(xy, k, theta, dist, r0, terms, values, pts, it, converged, redundancy,
+                       c, pp) -> PlumbLineResult:
+    """The :class:`PlumbLineResult` at the solution of :func:`_plumb_line_iterate`.
+
+    ``values``: the parameters in the model's units. Residuals ``v`` (mm) and design matrix at
+    the solution; cofactor matrix ``Q = (AᵀA)⁻¹`` by the SVD of the column-scaled ``A``;
+    ``σ0 = √(vᵀv / r)`` (mm); covariance ``σ0² Q`` of the distortion parameters; line angles
+    wrapped to [−π, π); residuals split per line and given in µm.
+    """
+    p = len(terms)
+    model = Distortion(r0=r0, **dict(zip(terms, values)))
     v, A = _design(xy, k, theta, dist, model, terms)
     scale = np.linalg.norm(A, axis=0)
     _, s, vt = np.linalg.svd(A / scale, full_matrices=False)

@@ -337,6 +337,33 @@ def _metashape_forward(u, f, b1, b2, k, p1, p2, s, c):
     return np.column_stack([du * s[0], -dv * s[1]])
 
 
+def _fit_metashape_lens(m, u, r0, *, k4, affine):
+    """Least-squares course distortion for :func:`interior_from_metashape`, and what it fits.
+
+    ``Δ(m) = m − u`` at the measured points ``m`` of the ideal grid ``u`` (mm) is linear in
+    ``A1, A2, A3, B1, B2`` (and ``C1, C2`` when ``affine``) for the fixed ``r0`` (mm): the
+    columns of :meth:`Distortion.jacobian_params`, scaled to unit norm for the solver.
+    Returns the :class:`Distortion` and the text that names the fitted (not exact) terms;
+    ``k4`` only decides whether that text names Metashape's r⁸ term.
+    """
+    J = Distortion(r0=r0).jacobian_params(m)
+    cols = list(range(5)) + ([5, 6] if affine else [])
+    A = J[:, :, cols].reshape(-1, len(cols))
+    scale = np.linalg.norm(A, axis=0)
+    scale[scale == 0] = 1.0
+    sol, *_ = np.linalg.lstsq(A / scale, (m - u).reshape(-1), rcond=None)
+    names = ("A1", "A2", "A3", "B1", "B2", "C1", "C2")
+    d = Distortion(r0=r0, **{names[j]: float(v) for j, v in zip(cols, sol / scale)})
+    fitted = ["k1…k3, p1, p2 (Metashape evaluates them at the ideal point, the course at "
+              "the measured one)"]
+    if k4 != 0.0:
+        fitted.append("k4 (no r⁸ term in the course model)")
+    if affine:
+        fitted.append("b1, b2 jointly with the lens terms (exact alone: C1 = b1/(f + b1), "
+                      "C2 = −b2/(f + b1))")
+    return d, "least-squares fit of " + "; ".join(fitted)
+
+
 def interior_from_metashape(f, cx, cy, width, height, pixel_size, *, b1=0.0, b2=0.0,
                             k1=0.0, k2=0.0, k3=0.0, k4=0.0, p1=0.0, p2=0.0, r0=0.0,
                             n: int = 25, unit_to_um: float = 1000.0) -> MetashapeInterior:
@@ -447,23 +474,7 @@ def interior_from_metashape(f, cx, cy, width, height, pixel_size, *, b1=0.0, b2=
         d = Distortion(r0=r0, C1=C1, C2=C2)
         approximate = ""
     else:
-        # Δ(m) is linear in A1, A2, A3, B1, B2, C1, C2 for fixed r0: columns of ∂Δ/∂p
-        J = Distortion(r0=r0).jacobian_params(m)
-        cols = list(range(5)) + ([5, 6] if affine else [])
-        A = J[:, :, cols].reshape(-1, len(cols))
-        scale = np.linalg.norm(A, axis=0)
-        scale[scale == 0] = 1.0
-        sol, *_ = np.linalg.lstsq(A / scale, (m - u).reshape(-1), rcond=None)
-        names = ("A1", "A2", "A3", "B1", "B2", "C1", "C2")
-        d = Distortion(r0=r0, **{names[j]: float(v) for j, v in zip(cols, sol / scale)})
-        fitted = ["k1…k3, p1, p2 (Metashape evaluates them at the ideal point, the course at "
-                  "the measured one)"]
-        if k[3] != 0.0:
-            fitted.append("k4 (no r⁸ term in the course model)")
-        if affine:
-            fitted.append("b1, b2 jointly with the lens terms (exact alone: C1 = b1/(f + b1), "
-                          "C2 = −b2/(f + b1))")
-        approximate = "least-squares fit of " + "; ".join(fitted)
+        d, approximate = _fit_metashape_lens(m, u, r0, k4=k[3], affine=affine)
     res = (m - d.delta(m) - u) * unit_to_um
     dist = np.hypot(res[:, 0], res[:, 1])
     rms, mx = float(np.sqrt(np.mean(dist**2))), float(np.max(dist))

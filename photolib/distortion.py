@@ -358,64 +358,10 @@ class Distortion:
         trace_last = np.empty(n) if method == "newton" else None
         history = np.zeros(max_iter)
         iterations = 0
-        tol2 = tol * tol
-        # blocks of contiguous x and y keep every temporary in the CPU cache; within a block a
-        # point leaves the iteration as soon as its own step is below tol (active set)
+        # blocks of contiguous x and y keep every temporary in the CPU cache
         for s in range(0, n, _BLOCK):
-            idx = np.arange(s, min(s + _BLOCK, n))
-            ix = np.ascontiguousarray(pts[idx, 0])
-            iy = np.ascontiguousarray(pts[idx, 1])
-            if method == "newton":  # start from one fixed-point step: x ≈ x_ideal + Δ(x_ideal)
-                dx, dy = distortion_delta(ix, iy, *args)
-                xa, ya = ix + dx, iy + dy
-            else:
-                xa, ya = ix.copy(), iy.copy()
-            for it in range(1, max_iter + 1):
-                if method == "newton":
-                    dx, dy, a, b, c, d = distortion_delta_and_jacobian(xa, ya, *args)
-                    fx = xa - dx - ix
-                    fy = ya - dy - iy
-                    j11, j22 = 1.0 - a, 1.0 - d
-                    det = j11 * j22 - b * c
-                    with np.errstate(divide="ignore", invalid="ignore"):
-                        sx = (j22 * fx + b * fy) / det
-                        sy = (j11 * fy + c * fx) / det
-                    xa = xa - sx
-                    ya = ya - sy
-                else:
-                    dx, dy = distortion_delta(xa, ya, *args)
-                    sx, sy = ix + dx - xa, iy + dy - ya
-                    xa = xa + sx
-                    ya = ya + sy
-                step2 = sx * sx + sy * sy
-                smax = float(np.sqrt(np.max(step2)))
-                history[it - 1] = max(history[it - 1], smax)
-                if not np.isfinite(smax) or smax > 1e12:
-                    step = np.sqrt(step2)
-                    bad = ~np.isfinite(step) | (step > 1e12)
-                    i = int(idx[np.argmax(bad)])
-                    rep = ConvergenceReport(method, False, it, float("inf"),
-                                            tuple(history[:it].tolist()))
-                    raise DistortionDivergenceError(
-                        f"{method} iteration diverged at point {i} (ideal {pts[i].tolist()}) after "
-                        f"{it} iterations; the distortion is not invertible there "
-                        "(outside the calibrated format?)", rep, i)
-                done = step2 < tol2
-                last = it == max_iter
-                if last or done.all():
-                    done = np.ones(len(idx), bool)
-                if done.any():
-                    j = idx[done]
-                    out[j, 0] = xa[done]
-                    out[j, 1] = ya[done]
-                    steps[j] = np.sqrt(step2[done])
-                    if method == "newton":
-                        det_last[j] = det[done]
-                        trace_last[j] = (j11 + j22)[done]
-                    if done.all():
-                        break
-                    keep = ~done
-                    idx, ix, iy, xa, ya = idx[keep], ix[keep], iy[keep], xa[keep], ya[keep]
+            it = _invert_block(pts, np.arange(s, min(s + _BLOCK, n)), args, method, tol, max_iter,
+                               out, steps, det_last, trace_last, history)
             iterations = max(iterations, it)
         history = tuple(history[:iterations].tolist())
         x = out
@@ -428,35 +374,9 @@ class Distortion:
                 f"within max_iter={max_iter} (first: point {i}, ideal {pts[i].tolist()}, last step "
                 f"{steps[i]:.3g} > tol={tol:g}){_slow_advice(history, tol)}", report, i,
                 converging=_shrinking(history))
-        # a root beyond the fold of x − Δ(x) solves the equation but is not
-        # the measured point: it lies on the mirrored sheet, e.g. on the other side of the centre.
-        # Valid sheet (connected to the centre, where I − ∂Δ/∂x = I): both eigenvalues of
-        # I − ∂Δ/∂x keep a positive real part ⇔ det > 0 and trace > 0. Newton has them at the
-        # last iterate, within tol of the result; near the fold (or after fixed-point
-        # iteration) they are evaluated at the result itself.
-        if method == "newton":
-            near = (det_last <= 0.05) | (trace_last <= 0.05)
-        else:
-            near = np.ones(n, bool)
-            det_last, trace_last = np.empty(n), np.empty(n)
-        if near.any():
-            _, _, a, b, c, d = distortion_delta_and_jacobian(x[near, 0], x[near, 1], *args)
-            det_last[near] = (1.0 - a) * (1.0 - d) - b * c
-            trace_last[near] = (1.0 - a) + (1.0 - d)
-        # and along the ray: a root beyond the radial map's fold radius is on an outer sheet
-        # even where I − ∂Δ/∂x is positive again there (e.g. A1 > 0 with A2 < 0)
-        folded = (det_last <= 0.0) | (trace_last <= 0.0) | (np.hypot(x[:, 0], x[:, 1])
-                                                             >= self.fold_radius)
-        if folded.any():
-            i = int(np.argmax(folded))
-            why = ("I − ∂Δ/∂x not positive there" if det_last[i] <= 0.0 or trace_last[i] <= 0.0
-                   else f"outside the radial fold at r' = {self.fold_radius:.6g} mm")
-            raise DistortionDivergenceError(
-                f"{method} iteration for point {i} (ideal {pts[i].tolist()}) reached a root beyond "
-                f"the fold of x − Δ(x) at {x[i].round(6).tolist()} ({why}): this ideal "
-                "point has no measured position on the valid sheet of the distortion model",
-                ConvergenceReport(method, False, iterations, float(np.max(steps)), history), i,
-                beyond_fold=True)
+        _check_valid_sheet(pts, x, args, method, det_last, trace_last, self.fold_radius,
+                           ConvergenceReport(method, False, iterations, float(np.max(steps)),
+                                             history))
         out = x[0] if single else x
         return (out, report) if return_report else out
 
@@ -554,3 +474,112 @@ def _fit_result(coef, res_um):
     dist = np.hypot(res_um[:, 0], res_um[:, 1])
     rms, mx = float(np.sqrt(np.mean(dist**2))), float(np.max(dist))
     return OpenCVFit(coef, rms, mx, mx <= 1e-6)
+
+
+def _invert_block(pts, idx, args, method, tol, max_iter, out, steps, det_last, trace_last,
+                  history) -> int:
+    """Iterate one block of points of :meth:`Distortion.distort`; return the iterations used.
+
+    Solves ``x − Δ(x) = x_ideal`` for the ideal points ``pts[idx]`` (mm) by Newton
+    (``x ← x − (I − ∂Δ/∂x)⁻¹ (x − Δ(x) − x_ideal)``, started from one fixed-point step) or by
+    fixed point (``x ← x_ideal + Δ(x)``). A point leaves the iteration as soon as its own step
+    is below ``tol`` (active set); at ``max_iter`` all remaining points leave. Writes, in place,
+    the result to ``out[idx]``, the last step length (mm) to ``steps[idx]``, for Newton det and
+    trace of ``I − ∂Δ/∂x`` at the last iterate to ``det_last[idx]``, ``trace_last[idx]``, and
+    keeps in ``history[k]`` the largest step (mm) of iteration k + 1 over all blocks.
+
+    Raises :class:`DistortionDivergenceError` naming the first point whose step is not finite
+    or above 1e12 mm.
+    """
+    tol2 = tol * tol
+    ix = np.ascontiguousarray(pts[idx, 0])
+    iy = np.ascontiguousarray(pts[idx, 1])
+    if method == "newton":  # start from one fixed-point step: x ≈ x_ideal + Δ(x_ideal)
+        dx, dy = distortion_delta(ix, iy, *args)
+        xa, ya = ix + dx, iy + dy
+    else:
+        xa, ya = ix.copy(), iy.copy()
+    for it in range(1, max_iter + 1):
+        if method == "newton":
+            dx, dy, a, b, c, d = distortion_delta_and_jacobian(xa, ya, *args)
+            fx = xa - dx - ix
+            fy = ya - dy - iy
+            j11, j22 = 1.0 - a, 1.0 - d
+            det = j11 * j22 - b * c
+            with np.errstate(divide="ignore", invalid="ignore"):
+                sx = (j22 * fx + b * fy) / det
+                sy = (j11 * fy + c * fx) / det
+            xa = xa - sx
+            ya = ya - sy
+        else:
+            dx, dy = distortion_delta(xa, ya, *args)
+            sx, sy = ix + dx - xa, iy + dy - ya
+            xa = xa + sx
+            ya = ya + sy
+        step2 = sx * sx + sy * sy
+        smax = float(np.sqrt(np.max(step2)))
+        history[it - 1] = max(history[it - 1], smax)
+        if not np.isfinite(smax) or smax > 1e12:
+            step = np.sqrt(step2)
+            bad = ~np.isfinite(step) | (step > 1e12)
+            i = int(idx[np.argmax(bad)])
+            rep = ConvergenceReport(method, False, it, float("inf"),
+                                    tuple(history[:it].tolist()))
+            raise DistortionDivergenceError(
+                f"{method} iteration diverged at point {i} (ideal {pts[i].tolist()}) after "
+                f"{it} iterations; the distortion is not invertible there "
+                "(outside the calibrated format?)", rep, i)
+        done = step2 < tol2
+        last = it == max_iter
+        if last or done.all():
+            done = np.ones(len(idx), bool)
+        if done.any():
+            j = idx[done]
+            out[j, 0] = xa[done]
+            out[j, 1] = ya[done]
+            steps[j] = np.sqrt(step2[done])
+            if method == "newton":
+                det_last[j] = det[done]
+                trace_last[j] = (j11 + j22)[done]
+            if done.all():
+                break
+            keep = ~done
+            idx, ix, iy, xa, ya = idx[keep], ix[keep], iy[keep], xa[keep], ya[keep]
+    return it
+
+
+def _check_valid_sheet(pts, x, args, method, det_last, trace_last, fold_radius, report) -> None:
+    """Raise if a root ``x`` (mm) of ``x − Δ(x) = x_ideal`` lies beyond the fold of the map.
+
+    A root beyond the fold solves the equation but is not the measured point: it lies on the
+    mirrored sheet, e.g. on the other side of the centre. Valid sheet (connected to the
+    centre, where ``I − ∂Δ/∂x = I``): both eigenvalues of ``I − ∂Δ/∂x`` keep a positive real
+    part ⇔ det > 0 and trace > 0. Newton has them at the last iterate (``det_last``,
+    ``trace_last``), within tol of the result; near the fold (det or trace ≤ 0.05, or after
+    fixed-point iteration, ``det_last is None``) they are evaluated at the result itself.
+    Along the ray, a root at ``r' ≥ fold_radius`` (mm, :attr:`Distortion.fold_radius`) is on
+    an outer sheet even where ``I − ∂Δ/∂x`` is positive again there (e.g. A1 > 0 with A2 < 0).
+    ``report`` is attached to the :class:`DistortionDivergenceError`, which names the first
+    such point.
+    """
+    n = len(x)
+    if method == "newton":
+        near = (det_last <= 0.05) | (trace_last <= 0.05)
+    else:
+        near = np.ones(n, bool)
+        det_last, trace_last = np.empty(n), np.empty(n)
+    if near.any():
+        _, _, a, b, c, d = distortion_delta_and_jacobian(x[near, 0], x[near, 1], *args)
+        det_last[near] = (1.0 - a) * (1.0 - d) - b * c
+        trace_last[near] = (1.0 - a) + (1.0 - d)
+    folded = (det_last <= 0.0) | (trace_last <= 0.0) | (np.hypot(x[:, 0], x[:, 1])
+                                                         >= fold_radius)
+    if folded.any():
+        i = int(np.argmax(folded))
+        why = ("I − ∂Δ/∂x not positive there" if det_last[i] <= 0.0 or trace_last[i] <= 0.0
+               else f"outside the radial fold at r' = {fold_radius:.6g} mm")
+        raise DistortionDivergenceError(
+            f"{method} iteration for point {i} (ideal {pts[i].tolist()}) reached a root beyond "
+            f"the fold of x − Δ(x) at {x[i].round(6).tolist()} ({why}): this ideal "
+            "point has no measured position on the valid sheet of the distortion model",
+            report, i, beyond_fold=True)

@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from photolib._validate import as_float_array, check_finite
-from photolib.transforms._base import DegenerateGeometryError
+from photolib.stereo._fundamental import _normalised_eight_point
 
 __all__ = ["fundamental_8point", "ransac_fundamental", "sampson_distance"]
 
@@ -32,15 +32,6 @@ def _points(a, name):
         raise ValueError(f"{name} must be (N, 2) pixel coordinates (col, row), got {p.shape}")
     check_finite(p, name)
     return p
-
-
-def _normalise(p):
-    m = p.mean(axis=0)
-    d = float(np.mean(np.hypot(*(p - m).T)))
-    if d <= 1e-12:
-        raise DegenerateGeometryError("the points of an image coincide: F is undetermined")
-    s = np.sqrt(2.0) / d
-    return np.array([[s, 0, -s * m[0]], [0, s, -s * m[1]], [0, 0, 1.0]])
 
 
 def fundamental_8point(x1, x2) -> np.ndarray:
@@ -68,18 +59,12 @@ def fundamental_8point(x1, x2) -> np.ndarray:
         raise ValueError(f"x1 has {len(p1)} points, x2 has {len(p2)}: they must correspond")
     if len(p1) < 8:
         raise ValueError(f"the 8-point algorithm needs at least 8 correspondences, got {len(p1)}")
-    T1, T2 = _normalise(p1), _normalise(p2)
-    h1 = np.column_stack([p1, np.ones(len(p1))]) @ T1.T
-    h2 = np.column_stack([p2, np.ones(len(p2))]) @ T2.T
-    A = (h2[:, :, None] * h1[:, None, :]).reshape(len(p1), 9)   # row: kron(x2, x1)
-    _, sv, vt = np.linalg.svd(A, full_matrices=True)
-    if len(sv) >= 8 and sv[7] <= 1e-10 * sv[0]:
-        raise DegenerateGeometryError("the correspondences do not determine F (a second null "
-                                      "vector): degenerate configuration")
-    Fn = vt[-1].reshape(3, 3)
-    u, s, wt = np.linalg.svd(Fn)
-    Fn = u @ np.diag([s[0], s[1], 0.0]) @ wt
-    F = T2.T @ Fn @ T1
+    # the shared estimator solves h1ᵀ·M·h2 = 0: image 2 first gives OpenCV's x2ᵀ F x1 = 0
+    F = _normalised_eight_point(
+        p2, p1, rms=False, min_spread=1e-12,
+        coincide="the points of an image coincide: F is undetermined", rtol=1e-10, rank2=True,
+        degenerate="the correspondences do not determine F (a second null vector): "
+                   "degenerate configuration")
     F /= np.linalg.norm(F)
     return -F if F[2, 2] < 0 else F
 

@@ -216,32 +216,11 @@ def least_squares_matching(template, search, initial, *, tol: float = 1e-4, max_
         rows = b0 + b1 * x + b2 * y
         if not (cols.min() >= 0 and rows.min() >= 0 and cols.max() <= W - 1
                 and rows.max() <= H - 1):                  # (NaN positions count as outside)
-            if it == 1:  # not a divergence: the start itself does not fit
-                given = [float(v) for v in np.ravel(as_float_array(initial, "initial"))]
-                start = f"({given[0]!r}, {given[1]!r})" if len(given) == 2 else repr(given)
-                err = StartOutsideImageError(
-                    f"least-squares matching cannot start: the patch at the initial position "
-                    f"initial = {start} (centre col {a0:.2f}, row {b0:.2f}) does not lie inside "
-                    f"the search image of {W} × {H} pixels (the {f.shape[1]} × {f.shape[0]} "
-                    "template must fit into it); move the start away from the border")
-            else:
-                err = ConvergenceError(
-                    f"least-squares matching diverged: after {it - 1} iterations the patch "
-                    f"(centre col {a0:.2f}, row {b0:.2f}) leaves the search image of "
-                    f"{W} × {H} pixels")
-            err.history = np.array(history)
-            raise err
+            raise _outside_error(it, initial, a0, b0, f.shape, W, H, history)
         g, gx, gy = _bilinear(planes, W, cols, rows)
         A = _design(r1, x, y, g, gx, gy)
         l = fv - (r0 + r1 * g)  # noqa: E741 - the usual name of the observation vector
-        N = A.T @ A
-        s = np.sqrt(N.diagonal())
-        # cond₂ of the symmetric positive semi-definite scaled N is λmax/λmin (no SVD needed)
-        lam = np.linalg.eigvalsh(N / (s[:, None] * s)) if s.all() else (0.0, 1.0)
-        if not lam[0] * 1e12 >= lam[-1]:
-            raise ValueError("the normal equations of the matching are singular: the search "
-                             "patch has no texture in one direction (flat or one-dimensional)")
-        dq = np.linalg.solve(N, A.T @ l)
+        dq = _increment(A, l)
         q = q + dq
         history.append(q)
         if not np.isfinite(q).all():
@@ -254,6 +233,57 @@ def least_squares_matching(template, search, initial, *, tol: float = 1e-4, max_
     if not converged and check:
         raise ConvergenceError(f"least-squares matching did not converge in {max_iter} "
                                f"iterations (last shift step {np.hypot(dq[0], dq[3]):.3g} px)")
+    return _lsm_result(q, planes, W, H, x, y, fv, f.shape, it, converged, history)
+
+
+def _outside_error(it, initial, a0, b0, shape, W, H, history) -> ConvergenceError:
+    """The error of :func:`least_squares_matching` when the patch leaves the search image.
+
+    In iteration 1 the start itself does not fit (a :class:`StartOutsideImageError` naming
+    ``initial``), later the iteration diverged (a :class:`ConvergenceError`). ``a0, b0``:
+    the patch centre (col, row, pixels); ``shape``: the template's (h, w); ``W × H``: the
+    search image. The iterates so far are attached as ``history``.
+    """
+    if it == 1:  # not a divergence: the start itself does not fit
+        given = [float(v) for v in np.ravel(as_float_array(initial, "initial"))]
+        start = f"({given[0]!r}, {given[1]!r})" if len(given) == 2 else repr(given)
+        err = StartOutsideImageError(
+            f"least-squares matching cannot start: the patch at the initial position "
+            f"initial = {start} (centre col {a0:.2f}, row {b0:.2f}) does not lie inside "
+            f"the search image of {W} × {H} pixels (the {shape[1]} × {shape[0]} "
+            "template must fit into it); move the start away from the border")
+    else:
+        err = ConvergenceError(
+            f"least-squares matching diverged: after {it - 1} iterations the patch "
+            f"(centre col {a0:.2f}, row {b0:.2f}) leaves the search image of "
+            f"{W} × {H} pixels")
+    err.history = np.array(history)
+    return err
+
+
+def _increment(A, l) -> np.ndarray:  # noqa: E741 - the usual name of the observation vector
+    """Increments ``dq = N⁻¹ Aᵀl`` of the eight LSM parameters, ``N = AᵀA``.
+
+    Raises ``ValueError`` when ``N`` scaled to unit diagonal has condition number
+    ``λmax/λmin`` above 1e12 (cond₂ of a symmetric positive semi-definite matrix; no SVD
+    needed), i.e. the patch has no texture in one direction.
+    """
+    N = A.T @ A
+    s = np.sqrt(N.diagonal())
+    lam = np.linalg.eigvalsh(N / (s[:, None] * s)) if s.all() else (0.0, 1.0)
+    if not lam[0] * 1e12 >= lam[-1]:
+        raise ValueError("the normal equations of the matching are singular: the search "
+                         "patch has no texture in one direction (flat or one-dimensional)")
+    return np.linalg.solve(N, A.T @ l)
+
+
+def _lsm_result(q, planes, W, H, x, y, fv, shape, it, converged, history) -> LSMResult:
+    """The :class:`LSMResult` at the parameters ``q`` of :func:`least_squares_matching`.
+
+    Resamples the search image at ``q`` (positions clipped to the image), residuals
+    ``v = f − (r0 + r1·g)``, ``σ0 = √(vᵀv / (n − 8))`` (grey values) and
+    ``Σ = σ0² (AᵀA)⁻¹``.
+    """
     a0, a1, a2, b0, b1, b2, r0, r1 = q.tolist()
     cols = np.clip(a0 + a1 * x + a2 * y, 0, W - 1)
     rows = np.clip(b0 + b1 * x + b2 * y, 0, H - 1)
@@ -263,5 +293,5 @@ def least_squares_matching(template, search, initial, *, tol: float = 1e-4, max_
     red = len(fv) - 8
     sigma0 = float(np.sqrt(v @ v / red))
     cov = sigma0**2 * np.linalg.inv(A.T @ A)
-    return LSMResult(q, np.sqrt(np.diag(cov)), sigma0, cov, v.reshape(f.shape), it, converged,
+    return LSMResult(q, np.sqrt(np.diag(cov)), sigma0, cov, v.reshape(shape), it, converged,
                      np.array(history))

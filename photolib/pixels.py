@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from photolib._docs import shared_doc
 from photolib._validate import as_float_array, as_points, as_scalar
 
 __all__ = ["image_from_pixel", "pixel_from_image"]
@@ -25,11 +26,20 @@ def _pixel_size(pixel_size):
     return s
 
 
+#: the parameters ``width, height, pixel_size`` of both conversions
+_IMAGE_SIZE = """width, height : int
+    Image size W × H in pixels.
+pixel_size : float or array_like, shape (2,)
+    Pixel spacing / Pixelabstand ``(s_x, s_y)`` in mm per pixel, > 0; a scalar for square
+    pixels."""
+
+
 def _size(width, height):
     W, H = as_scalar(width, "width", positive=True), as_scalar(height, "height", positive=True)
     return W, H
 
 
+@shared_doc(image_size=_IMAGE_SIZE)
 def image_from_pixel(colrow, width, height, pixel_size):
     """Image coordinates (mm) of pixel positions.
 
@@ -37,11 +47,7 @@ def image_from_pixel(colrow, width, height, pixel_size):
     ----------
     colrow : array_like, shape (N, 2) or (2,)
         (col, row) in pixels, sub-pixel allowed.
-    width, height : int
-        Image size W × H in pixels.
-    pixel_size : float or array_like, shape (2,)
-        Pixel spacing / Pixelabstand ``(s_x, s_y)`` in mm per pixel, > 0; a scalar for square
-        pixels.
+    {image_size}
 
     Returns
     -------
@@ -65,6 +71,7 @@ def image_from_pixel(colrow, width, height, pixel_size):
     return out[0] if single else out
 
 
+@shared_doc(image_size=_IMAGE_SIZE)
 def pixel_from_image(xy, width, height, pixel_size):
     """Pixel positions (col, row) of image coordinates (mm); inverse of :func:`image_from_pixel`.
 
@@ -72,11 +79,7 @@ def pixel_from_image(xy, width, height, pixel_size):
     ----------
     xy : array_like, shape (N, 2) or (2,)
         Image coordinates (x', y') in mm, origin at the image centre, x' right, y' up.
-    width, height : int
-        Image size W × H in pixels.
-    pixel_size : float or array_like, shape (2,)
-        Pixel spacing / Pixelabstand ``(s_x, s_y)`` in mm per pixel, > 0; a scalar for square
-        pixels.
+    {image_size}
 
     Returns
     -------

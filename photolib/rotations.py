@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from photolib._docs import shared_doc
 from photolib._generated.rotation import rotation_opk_elements, rotation_pok_elements
 from photolib._validate import as_float_array, as_rotation, as_vector3, check_finite
 
@@ -26,6 +27,14 @@ GIMBAL_TOL = 1e-9
 
 class GimbalLockError(ValueError):
     """The secondary angle is ±π/2: the primary and tertiary angles are not separable."""
+
+#: the end of the parameters and the result of :func:`rotation_opk` and :func:`rotation_pok`
+_ROTATION_RESULT = """    Arrays broadcast; the result then has shape ``(..., 3, 3)``.
+
+Returns
+-------
+R : ndarray, shape (3, 3) or (..., 3, 3)
+    Rotation camera → object (dimensionless), ``X = X0 + m·R·x*``."""
 
 
 def _stack(elements) -> np.ndarray:
@@ -50,6 +59,7 @@ def _angles(omega, phi, kappa):
     return out
 
 
+@shared_doc(rotation_result=_ROTATION_RESULT)
 def rotation_opk(omega, phi, kappa) -> np.ndarray:
     """Rotation matrix ``R = R_ω·R_φ·R_κ`` (camera → object).
 
@@ -57,11 +67,7 @@ def rotation_opk(omega, phi, kappa) -> np.ndarray:
     ----------
     omega, phi, kappa : float or array_like
         Primary (about X), secondary (about Y) and tertiary (about Z) angle, radians.
-        Arrays broadcast; the result then has shape ``(..., 3, 3)``.
-
-    Returns
-    -------
-    R : ndarray, shape (3, 3) or (..., 3, 3)
+    {rotation_result}
 
     Notes
     -----
@@ -80,6 +86,7 @@ def rotation_opk(omega, phi, kappa) -> np.ndarray:
     return _stack(rotation_opk_elements(*_angles(omega, phi, kappa)))
 
 
+@shared_doc(rotation_result=_ROTATION_RESULT)
 def rotation_pok(omega, phi, kappa) -> np.ndarray:
     """Rotation matrix in the φ-ω-κ order, ``R = R_φ·R_ω·R_κ`` (primary axis Y).
 
@@ -89,12 +96,7 @@ def rotation_pok(omega, phi, kappa) -> np.ndarray:
     ----------
     omega, phi, kappa : float or array_like
         Secondary (about X), primary (about Y) and tertiary (about Z) angle, radians.
-        Arrays broadcast; the result then has shape ``(..., 3, 3)``.
-
-    Returns
-    -------
-    R : ndarray, shape (3, 3) or (..., 3, 3)
-        Rotation camera → object (dimensionless), ``X = X0 + m·R·x*``.
+    {rotation_result}
 
     Notes
     -----

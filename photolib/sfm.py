@@ -27,7 +27,7 @@ import numpy as np
 
 from photolib._validate import as_float_array, as_scalar
 from photolib.correlation import ransac
-from photolib.transforms._base import DegenerateGeometryError
+from photolib.stereo._fundamental import _normalised_eight_point
 
 __all__ = ["PairOrientation", "chain_poses", "decompose_essential", "essential_eight_point",
            "image_vectors", "orient_pair", "sampson_distance", "triangulate_midpoint"]
@@ -71,27 +71,13 @@ def essential_eight_point(xy1, xy2, c, x0=0.0, y0=0.0) -> np.ndarray:
                          f"{len(a)} and {len(b)}")
     # homogeneous u = x*/(−c) = (−x/c, −y/c, 1), Hartley-normalised ũ = T·u (centroid 0,
     # mean distance √2); then x*1ᵀ·E·x*2 = c²·ũ1ᵀ·T1⁻ᵀ·E·T2⁻¹·ũ2, so E ∝ T1ᵀ·Ẽ·T2
-    T1, T2 = _hartley(a[:, :2] / -c), _hartley(b[:, :2] / -c)
-    ua = (a / -c) @ T1.T
-    ub = (b / -c) @ T2.T
-    A = (ua[:, :, None] * ub[:, None, :]).reshape(len(a), 9)
-    s, Vt = np.linalg.svd(A)[1:]
-    if s[7] <= 1e-12 * s[0]:
-        raise DegenerateGeometryError("the point pairs do not determine the essential matrix "
-                                      "(a degenerate configuration: too few distinct rays)")
-    E = T1.T @ Vt[-1].reshape(3, 3) @ T2
+    E = _normalised_eight_point(
+        a[:, :2] / -c, b[:, :2] / -c, rms=False, min_spread=0.0,
+        coincide="all image points coincide", rtol=1e-12, rank2=False,
+        degenerate="the point pairs do not determine the essential matrix (a degenerate "
+                   "configuration: too few distinct rays)")
     U, _, Wt = np.linalg.svd(E)
     return U @ np.diag([1.0, 1.0, 0.0]) @ Wt
-
-
-def _hartley(p):
-    """Normalising matrix of 2-D points: centroid to 0, mean distance to the centroid √2."""
-    m = p.mean(axis=0)
-    d = np.mean(np.hypot(*(p - m).T))
-    if not d > 0:
-        raise DegenerateGeometryError("all image points coincide")
-    k = np.sqrt(2.0) / d
-    return np.array([[k, 0.0, -k * m[0]], [0.0, k, -k * m[1]], [0.0, 0.0, 1.0]])
 
 
 def sampson_distance(E, xy1, xy2, c, x0=0.0, y0=0.0) -> np.ndarray:

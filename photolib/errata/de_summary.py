@@ -54,7 +54,8 @@ def _acuity() -> Evidence:
                     "arc length = 250 mm·tan(angle)", table=table)
 
 
-def records():
+def _records_distortion() -> list:
+    """Radial, Conrady, Seidel, tangential and affine distortion (the summary's 'Verzeichnung')."""
     out = []
     out.append(formula(
         "de-summary:radial-components", SRC + ", 'Radialsymmetrische Verzeichnung'",
@@ -107,6 +108,12 @@ def records():
         derivation=lambda: sp.Matrix(dist.delta_affine()),
         note="Δx = C1x' + C2y', Δy = −C1y' + C2x' is a different parametrisation: it differs "
              "from the course's (2C1x' + 2C2y', 0) by a similarity (scale and rotation)."))
+    return out
+
+
+def _records_rotation_2d() -> list:
+    """The plane rotation of 'Rotationsmatrizen in der Ebene': printed lines and commented-out pair."""
+    out = []
     out.append(formula(
         "de-summary:rotation-2d", SRC + ", 'Rotationsmatrizen in der Ebene'", "2-D rotation "
         "x' = x cos θ + y sin θ, y' = y cos θ − x sin θ",
@@ -134,6 +141,12 @@ def records():
              "first matrix is the one of the summary's own lines 345 and 353; read column by "
              "column it is R(θ), the active rotation, and contradicts them. Under either "
              "reading the second matrix is the inverse of the first."))
+    return out
+
+
+def _records_collinearity() -> list:
+    """Collinearity equations and the stereo normal case with its simplified ξ and η lines."""
+    out = []
     Rg = col.rotation_symbols()
 
     def _col(sign_x0=True):
@@ -197,6 +210,12 @@ def records():
         note="The same reduction as the ξ line (de-summary:normal-case-simplified): right for "
              "both cameras under the conditions the summary lists just before (lines "
              "557–559); in general the other terms of R and Y0, Z0 are missing."))
+    return out
+
+
+def _records_counts() -> list:
+    """Parameter counts, stereo acuity, fusion limit, bit depth, count of a 3-D reconstruction."""
+    out = []
     out.append(Record(
         id="de-summary:plane-transformation-counts", source=SRC + ", 'Ebene Entzerrung'",
         item="parameter counts: similarity 4, affine 6, polynomial (n+1)(n+2), bilinear 8, "
@@ -226,8 +245,13 @@ def records():
         specs={"printed": VersionSpec("right", check=lambda: Evidence(
             "right" if 2 * 2 - 3 == 1 and stereo.height_from_parallax() != 0 else "wrong",
             "2 images × (x', y') = 4 equations, 3 coordinates: redundancy 1"), claim="right")}))
-    out.extend(_orientation_records())
     return out
+
+
+def records():
+    """The summary's records, in catalogue order: the groups above, then the orientation ones."""
+    return (_records_distortion() + _records_rotation_2d() + _records_collinearity()
+            + _records_counts() + _orientation_records())
 
 
 def _solve_X(camera, which="X"):

@@ -37,7 +37,8 @@ def _kd() -> Evidence:
                     "aperture d/f (definitions)")
 
 
-def records():
+def _records_rays() -> list:
+    """Refraction, reflection, the imaging equation and scale, the field angle."""
     out = []
     out.append(Record(
         id="de-summary:refraction-snell", source=SRC + ", 'Lichtbrechung'",
@@ -82,6 +83,12 @@ def records():
         "right-under-condition: Ω is half the format angle (full angle 2Ω), s' the format "
         "extent" if sp.simplify(o.s_fmt / (2 * o.c_cam) - o.half_field_angle_tan()) == 0
         else "wrong", "tan(half angle) = (s'/2)/c")
+    return out
+
+
+def _records_aperture() -> list:
+    """Aperture angle, f-number, depth of field and the circle of confusion."""
+    out = []
     out.append(Record(
         id="de-summary:aperture-angle", source=SRC + ", 'Öffnungswinkel'", item="tan α = d'/(2f)",
         kind="formula", specs={"printed": VersionSpec(
@@ -126,6 +133,12 @@ def records():
         specs={"printed": VersionSpec(COC, check=_coc, claim="right")},
         note="A rule for the tolerated blur, not a law: other rules use s'/1000 or s'/1730 "
              "(Zeiss); the depth of field scales with the value chosen."))
+    return out
+
+
+def _records_falloff_aberrations() -> list:
+    """Light fall-off, the aperture's and the chromatic aberrations, the real image radius."""
+    out = []
     out.append(formula(
         "de-summary:vignetting-cos4", SRC + ", 'Lichtabfall'", "E(τ) = E·cos⁴τ",
         {"printed": VersionSpec("right-under-condition: natural vignetting of a small aperture "
@@ -162,6 +175,11 @@ def records():
         note="Ideal radius c·tan τ (pinhole at O', τ = τ'), Δr' = distorted − ideal: a "
              "definition consistent with the course's sign."))
     return out
+
+
+def records():
+    """The optics records of the summary, in catalogue order (the groups above)."""
+    return _records_rays() + _records_aperture() + _records_falloff_aberrations()
 
 
 COC = ("not-checkable: a convention for the tolerated blur: s'/1500 seen from a distance equal "

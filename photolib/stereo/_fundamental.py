@@ -17,13 +17,52 @@ from photolib._validate import as_points, as_scalar
 from photolib.transforms._base import DegenerateGeometryError
 
 
-def _normaliser(pts):
+def _normaliser(pts, *, rms, min_spread, coincide):
+    """Hartley's normalising similarity ``T`` of 2-D points (N, 2): centroid to 0, spread √2.
+
+    The spread ``d`` is the mean distance from the centroid, or with ``rms`` the root mean
+    square distance; ``T = [[k, 0, −k·m_x], [0, k, −k·m_y], [0, 0, 1]]``, ``k = √2/d``.
+    ``d ≤ min_spread`` (and a NaN ``d``) raises ``DegenerateGeometryError(coincide)``.
+    """
     m = pts.mean(axis=0)
-    s = np.sqrt(np.mean(np.sum((pts - m) ** 2, axis=1)))
-    if not s > 0:
-        raise DegenerateGeometryError("all points coincide: no fundamental matrix")
-    k = np.sqrt(2.0) / s
+    if rms:
+        d = np.sqrt(np.mean(np.sum((pts - m) ** 2, axis=1)))
+    else:
+        d = np.mean(np.hypot(*(pts - m).T))
+    if not d > min_spread:
+        raise DegenerateGeometryError(coincide)
+    k = np.sqrt(2.0) / d
     return np.array([[k, 0.0, -k * m[0]], [0.0, k, -k * m[1]], [0.0, 0.0, 1.0]])
+
+
+def _normalised_eight_point(p1, p2, *, rms, min_spread, coincide, rtol, degenerate, rank2):
+    r"""The normalised 8-point algorithm (Hartley 1997): ``M`` with ``h1ᵀ·M·h2 ≈ 0``.
+
+    The one implementation behind :func:`estimate_fundamental`,
+    :func:`photolib.fundamental_8point` (called with the images swapped, for OpenCV's
+    ``x2ᵀ F x1 = 0``) and :func:`photolib.essential_eight_point` (reduced image vectors).
+
+    ``p1, p2``: corresponding points (N, 2), N ≥ 8, checked by the caller;
+    ``h_i = T_i·(x_i, y_i, 1)`` with :func:`_normaliser` (``rms``, ``min_spread``,
+    ``coincide`` passed on). Each pair gives one row ``kron(ĥ1, ĥ2)`` of ``A``; ``M̂`` is the
+    last right singular vector of ``A`` (minimises ``|A·vec M̂|`` with ``|M̂| = 1``). A
+    relative singular value ``σ8/σ1 ≤ rtol`` (more than one solution) raises
+    ``DegenerateGeometryError(degenerate.format(ratio=σ8/σ1))``. With ``rank2`` the
+    smallest singular value of ``M̂`` is set to 0. Returns ``M = T1ᵀ·M̂·T2``, not rescaled.
+    """
+    T1 = _normaliser(p1, rms=rms, min_spread=min_spread, coincide=coincide)
+    T2 = _normaliser(p2, rms=rms, min_spread=min_spread, coincide=coincide)
+    h1 = np.column_stack([p1, np.ones(len(p1))]) @ T1.T
+    h2 = np.column_stack([p2, np.ones(len(p2))]) @ T2.T
+    A = (h1[:, :, None] * h2[:, None, :]).reshape(len(p1), 9)   # row: kron(h1, h2)
+    _, sv, Vt = np.linalg.svd(A)                 # full V: its last row spans the null space
+    if sv[7] <= rtol * sv[0]:                    # rank < 8: more than one solution
+        raise DegenerateGeometryError(degenerate.format(ratio=sv[7] / sv[0]))
+    Mn = Vt[-1].reshape(3, 3)
+    if rank2:
+        U, s, Vt3 = np.linalg.svd(Mn)
+        Mn = U @ np.diag([s[0], s[1], 0.0]) @ Vt3
+    return T1.T @ Mn @ T2
 
 
 def estimate_fundamental(xy1, xy2) -> np.ndarray:
@@ -72,18 +111,12 @@ def estimate_fundamental(xy1, xy2) -> np.ndarray:
         raise ValueError(f"xy1 and xy2 differ in shape: {p1.shape} and {p2.shape}")
     if len(p1) < 8:
         raise ValueError(f"the 8-point algorithm needs at least 8 correspondences, got {len(p1)}")
-    T1, T2 = _normaliser(p1), _normaliser(p2)
-    h1 = np.column_stack([p1, np.ones(len(p1))]) @ T1.T
-    h2 = np.column_stack([p2, np.ones(len(p2))]) @ T2.T
-    A = (h1[:, :, None] * h2[:, None, :]).reshape(len(p1), 9)
-    _, sv, Vt = np.linalg.svd(A)                 # full V: its last row spans the null space
-    if sv[7] <= 1e-10 * sv[0]:                   # rank < 8: more than one solution
-        raise DegenerateGeometryError(
+    F = _normalised_eight_point(
+        p1, p2, rms=True, min_spread=0.0, coincide="all points coincide: no fundamental matrix",
+        rtol=1e-10, rank2=True, degenerate=(
             "the correspondences do not determine F (the 9 linear equations have a null space "
-            f"of dimension > 1; relative singular value σ8/σ1 = {sv[7] / sv[0]:.3g}): points on a line or a plane without parallax?")
-    U, s, Vt3 = np.linalg.svd(Vt[-1].reshape(3, 3))
-    Fn = U @ np.diag([s[0], s[1], 0.0]) @ Vt3
-    F = T1.T @ Fn @ T2
+            "of dimension > 1; relative singular value σ8/σ1 = {ratio:.3g}): points on a line "
+            "or a plane without parallax?"))
     F /= np.linalg.norm(F)
     return F
 

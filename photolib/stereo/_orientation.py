@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from photolib._docs import shared_doc
 from photolib._validate import (
     as_float_array,
     as_max_iter,
@@ -71,6 +72,14 @@ def _rotation_derivatives(w, p, k):
     dRk = np.array([[-sk, -ck, 0], [ck, -sk, 0], [0, 0, 0]])
     return Rw @ Rp @ Rk, (dRw @ Rp @ Rk, Rw @ dRp @ Rk, Rw @ Rp @ dRk)
 
+#: parameters shared by both relative orientations (see :func:`photolib._docs.shared_doc`)
+_PAIR_POINTS = """xy1, xy2 : array_like, shape (N, 2)
+    Corresponding image points (image unit), N ≥ 5.
+c : float
+    Camera constant > 0 of both images (image unit)."""
+_PRINCIPAL_POINT = """x0, y0 : float
+    Principal point of both images."""
+
 
 def coplanarity_residuals(q, r1, x2, bx, c):
     """Coplanarity residuals ``det[b, r1, R2·x*2]/(bx·c)`` and their Jacobian (N, 5).
@@ -91,6 +100,7 @@ def coplanarity_residuals(q, r1, x2, bx, c):
     return f, J
 
 
+@shared_doc(pair_points=_PAIR_POINTS, principal_point=_PRINCIPAL_POINT)
 def relative_orientation(xy1, xy2, c, bx: float = 1.0, x0=0.0, y0=0.0, initial=None, *,
                          tol: float = 1e-12, max_iter: int = 30,
                          check: bool = True) -> RelativeOrientation:
@@ -102,14 +112,10 @@ def relative_orientation(xy1, xy2, c, bx: float = 1.0, x0=0.0, y0=0.0, initial=N
 
     Parameters
     ----------
-    xy1, xy2 : array_like, shape (N, 2)
-        Corresponding image points (image unit), N ≥ 5.
-    c : float
-        Camera constant > 0 of both images (image unit).
+    {pair_points}
     bx : float
         Fixed base component (model unit), ≠ 0; its sign says on which side image 2 is.
-    x0, y0 : float
-        Principal point of both images.
+    {principal_point}
     initial : array_like, shape (5,), optional
         Start (by, bz, ω2, φ2, κ2); default zeros (near the normal case).
     tol, max_iter, check
@@ -150,21 +156,8 @@ def relative_orientation(xy1, xy2, c, bx: float = 1.0, x0=0.0, y0=0.0, initial=N
     >>> np.round(ro.params, 9).tolist(), ro.converged
     ([0.1, -0.05, 0.01, -0.02, 0.03], True)
     """
-    a, b2, c, bx, x0, y0, tol, max_iter, q, r1, x2 = _pair_inputs(
-        xy1, xy2, c, bx, x0, y0, initial, tol, max_iter, "relative orientation",
-        "by, bz, ω2, φ2, κ2")
-
-    def rays(q):
-        return r1, x2 @ rotation_opk(*q[2:]).T
-
-    q, it, converged = _coplanarity_gauss_newton(
-        lambda q: coplanarity_residuals(q, r1, x2, bx, c), rays, q, tol, max_iter, check,
-        shifts=2, scale=abs(bx), what="(by, bz, ω2, φ2, κ2)", name="relative orientation")
-    f, J = coplanarity_residuals(q, r1, x2, bx, c)
-    R2 = rotation_opk(*q[2:])
-    base = np.array([bx, q[0], q[1]])
-    model, sigma0, cov, red = _oriented_model(a, b2, f, J, np.eye(3), base, R2, c, x0, y0,
-                                              converged, bx)
+    q, _, R2, base, f, model, sigma0, cov, red, it, converged = _orient_pair(
+        False, xy1, xy2, c, bx, x0, y0, initial, tol, max_iter, check)
     return RelativeOrientation(base=base, R2=R2, omega=float(q[2]), phi=float(q[3]),
                                kappa=float(q[4]), model=model, residuals=f,
                                sigma0=sigma0, covariance=cov, iterations=it,
@@ -186,6 +179,43 @@ def _pair_inputs(xy1, xy2, c, bx, x0, y0, initial, tol, max_iter, name, unknowns
         raise ValueError(f"initial must be 5 finite values ({unknowns}), got {q.tolist()}")
     return (a, b2, c, bx, x0, y0, tol, max_iter, q, _image_vectors(a, c, x0, y0),
             _image_vectors(b2, c, x0, y0))
+
+
+def _orient_pair(independent, xy1, xy2, c, bx, x0, y0, initial, tol, max_iter, check):
+    """Both relative orientations: checked inputs, Gauss–Newton, model points and precision.
+
+    ``independent=False``: dependent orientation, unknowns ``(by, bz, ω2, φ2, κ2)``, image 1
+    fixed (``R1 = I``), base ``(bx, by, bz)``; the base components converge to ``tol·|bx|``.
+    ``independent=True``: unknowns ``(φ1, κ1, ω2, φ2, κ2)``, ``R1 = R_φ(φ1)·R_κ(κ1)``, base
+    ``(bx, 0, 0)``. Returns ``(q, R1, R2, base, f, model, sigma0, cov, redundancy,
+    iterations, converged)`` with ``f`` the coplanarity residuals (image unit) at ``q``.
+    """
+    name = "independent relative orientation" if independent else "relative orientation"
+    unknowns = "φ1, κ1, ω2, φ2, κ2" if independent else "by, bz, ω2, φ2, κ2"
+    a, b2, c, bx, x0, y0, tol, max_iter, q, x1, x2 = _pair_inputs(
+        xy1, xy2, c, bx, x0, y0, initial, tol, max_iter, name, unknowns)
+    if independent:
+        def residuals(q):
+            return independent_coplanarity_residuals(q, x1, x2, c)
+
+        def rays(q):
+            return x1 @ rotation_opk(0.0, *q[:2]).T, x2 @ rotation_opk(*q[2:]).T
+    else:
+        def residuals(q):
+            return coplanarity_residuals(q, x1, x2, bx, c)
+
+        def rays(q):
+            return x1, x2 @ rotation_opk(*q[2:]).T
+    q, it, converged = _coplanarity_gauss_newton(
+        residuals, rays, q, tol, max_iter, check, shifts=0 if independent else 2,
+        scale=1.0 if independent else abs(bx), what=f"({unknowns})", name=name)
+    f, J = residuals(q)
+    R1 = rotation_opk(0.0, q[0], q[1]) if independent else np.eye(3)
+    R2 = rotation_opk(*q[2:])
+    base = np.array([bx, 0.0, 0.0]) if independent else np.array([bx, q[0], q[1]])
+    model, sigma0, cov, red = _oriented_model(a, b2, f, J, R1, base, R2, c, x0, y0,
+                                              converged, bx)
+    return q, R1, R2, base, f, model, sigma0, cov, red, it, converged
 
 
 def _coplanarity_gauss_newton(residuals, rays, q, tol, max_iter, check, *, shifts, scale,
@@ -298,6 +328,7 @@ def independent_coplanarity_residuals(q, x1, x2, c):
     return f, J
 
 
+@shared_doc(pair_points=_PAIR_POINTS, principal_point=_PRINCIPAL_POINT)
 def independent_relative_orientation(xy1, xy2, c, bx: float = 1.0, x0=0.0, y0=0.0,
                                      initial=None, *, tol: float = 1e-12, max_iter: int = 30,
                                      check: bool = True) -> IndependentRelativeOrientation:
@@ -310,14 +341,10 @@ def independent_relative_orientation(xy1, xy2, c, bx: float = 1.0, x0=0.0, y0=0.
 
     Parameters
     ----------
-    xy1, xy2 : array_like, shape (N, 2)
-        Corresponding image points (image unit), N ≥ 5.
-    c : float
-        Camera constant > 0 of both images (image unit).
+    {pair_points}
     bx : float
         Base length (model unit), ≠ 0; it sets the model scale and its sign the side of image 2.
-    x0, y0 : float
-        Principal point of both images.
+    {principal_point}
     initial : array_like, shape (5,), optional
         Start (φ1, κ1, ω2, φ2, κ2); default zeros (near the normal case).
     tol, max_iter, check
@@ -360,22 +387,8 @@ def independent_relative_orientation(xy1, xy2, c, bx: float = 1.0, x0=0.0, y0=0.
     >>> np.round(ro.params, 9).tolist(), ro.converged
     ([0.02, -0.01, 0.01, -0.02, 0.03], True)
     """
-    a, b2, c, bx, x0, y0, tol, max_iter, q, x1, x2 = _pair_inputs(
-        xy1, xy2, c, bx, x0, y0, initial, tol, max_iter, "independent relative orientation",
-        "φ1, κ1, ω2, φ2, κ2")
-
-    def rays(q):
-        return x1 @ rotation_opk(0.0, *q[:2]).T, x2 @ rotation_opk(*q[2:]).T
-
-    q, it, converged = _coplanarity_gauss_newton(
-        lambda q: independent_coplanarity_residuals(q, x1, x2, c), rays, q, tol, max_iter,
-        check, shifts=0, scale=1.0, what="(φ1, κ1, ω2, φ2, κ2)",
-        name="independent relative orientation")
-    f, J = independent_coplanarity_residuals(q, x1, x2, c)
-    R1, R2 = rotation_opk(0.0, q[0], q[1]), rotation_opk(*q[2:])
-    base = np.array([bx, 0.0, 0.0])
-    model, sigma0, cov, red = _oriented_model(a, b2, f, J, R1, base, R2, c, x0, y0,
-                                              converged, bx)
+    q, R1, R2, base, f, model, sigma0, cov, red, it, converged = _orient_pair(
+        True, xy1, xy2, c, bx, x0, y0, initial, tol, max_iter, check)
     return IndependentRelativeOrientation(
         base=base, R1=R1, R2=R2, phi1=float(q[0]), kappa1=float(q[1]), omega2=float(q[2]),
         phi2=float(q[3]), kappa2=float(q[4]), model=model, residuals=f, sigma0=sigma0,
