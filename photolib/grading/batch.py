@@ -406,20 +406,7 @@ def grade_submission(path, pool: KernelPool, limits: Limits, judges: JudgePool |
     deadline = t0 + limits.timeout
     run = _run_cells(pool, path, nb, code_cells(nb), limits, deadline)
     kernel, errors, deaths, timed_out = run.kernel, run.errors, run.deaths, run.timed_out
-    notes = [f"cell {i + 1}: {clean_message(e, 200)}" for i, e in errors[:5]]
-    notes += [f"cell {i + 1} killed the kernel ({e}); it was skipped" for i, e in deaths]
-    if timed_out:
-        notes.append(f"time limit of {limits.timeout:g} s reached; later cells did not run")
-    if run.stuck is not None:
-        notes.append(f"cell {run.stuck + 1} went on after the interrupt (a bare except:?): "
-                     f"its kernel was stopped and cells 1-{run.stuck} run again to read the "
-                     "answers" + ("; that re-run did not end either" if run.rerun_failed
-                                  else ""))
-    if run.dropped:
-        notes.append(f"{run.dropped} characters of output dropped")
-    if run.oversized:
-        notes.append(f"{run.oversized} kernel message(s) larger than "
-                     f"{MAX_MESSAGE_BYTES >> 20} MiB dropped unread (output lost)")
+    notes = _run_notes(run, limits)
     tampered = any(e.startswith("Tampering") for _, e in errors)
     record, kernel_sid, lost = None, NOT_ANSWERED, False
     params = {}
@@ -485,6 +472,27 @@ def grade_submission(path, pool: KernelPool, limits: Limits, judges: JudgePool |
     status = _status(errors, deaths, timed_out, tampered, kernel is None, sid, lost, oom)
     return Graded(str(path), sid or "", status, clean_message("; ".join(notes), 1000), name,
                   judgements, run.text, time.monotonic() - t0)
+
+
+def _run_notes(run, limits: Limits) -> list[str]:
+    """The gradebook notes on how the submission's cells ran: their errors (the first five),
+    cells that killed the kernel, the time limit, a cell that ignored the interrupt, dropped
+    output."""
+    notes = [f"cell {i + 1}: {clean_message(e, 200)}" for i, e in run.errors[:5]]
+    notes += [f"cell {i + 1} killed the kernel ({e}); it was skipped" for i, e in run.deaths]
+    if run.timed_out:
+        notes.append(f"time limit of {limits.timeout:g} s reached; later cells did not run")
+    if run.stuck is not None:
+        notes.append(f"cell {run.stuck + 1} went on after the interrupt (a bare except:?): "
+                     f"its kernel was stopped and cells 1-{run.stuck} run again to read the "
+                     "answers" + ("; that re-run did not end either" if run.rerun_failed
+                                  else ""))
+    if run.dropped:
+        notes.append(f"{run.dropped} characters of output dropped")
+    if run.oversized:
+        notes.append(f"{run.oversized} kernel message(s) larger than "
+                     f"{MAX_MESSAGE_BYTES >> 20} MiB dropped unread (output lost)")
+    return notes
 
 
 def _missing_id_reason(shown, literal, record) -> str:
