@@ -119,6 +119,8 @@ _EXPORTS = {
     "data_snooping": "bundle", "inner_constraints": "bundle",
     "normal_matrix_pattern": "bundle", "student_t_cdf": "bundle",
     "ReliabilityResult": "bundle", "non_centrality": "bundle", "reliability": "bundle",
+    # the bases of the error hierarchy (photolib.errors); the leaves are listed above
+    "PhotolibError": "errors", "InputError": "errors", "GeometryError": "errors",
 }
 
 #: deprecated names: still importable (they warn when called), not in ``__all__``;

@@ -17,22 +17,13 @@ from photolib._generated.collinearity import collinearity_jacobian_opk, project_
 from photolib._validate import as_points, as_rotation, as_scalar, as_vector3, check_finite
 from photolib.distortion import Distortion
 from photolib.rotations import opk_from_rotation
+from photolib.errors import PointBehindCameraError  # noqa: F401 - raised here, defined in one hierarchy
 
 __all__ = ["project", "collinearity_jacobian", "monoplot", "monoplot_dtm", "PointBehindCameraError"]
 
 #: points per block: temporaries stay in the CPU cache, memory stays bounded for N = 1e6+
 BLOCK = 8192
 
-
-class PointBehindCameraError(ValueError):
-    """A point has ``N ≥ 0``: on or behind the image plane's side of the projection centre.
-
-    Raised by :func:`project` and :func:`collinearity_jacobian` with ``index`` (the first
-    such point) and ``detail`` (the message without the advice, for callers that rephrase it).
-    """
-
-    index: int | None = None
-    detail: str = ""
 
 
 def _behind_camera(pts, depth, valid, advice: str) -> PointBehindCameraError:

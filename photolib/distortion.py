@@ -24,6 +24,7 @@ from photolib._generated.distortion import (
     distortion_jacobian_params,
 )
 from photolib._validate import as_int, as_max_iter, as_points, as_scalar, as_tolerance
+from photolib.errors import ConvergenceError
 
 __all__ = ["Distortion", "ConvergenceReport", "DistortionDivergenceError", "OpenCVFit"]
 
@@ -86,7 +87,7 @@ def _slow_advice(history, tol: float) -> str:
             "Newton)")
 
 
-class DistortionDivergenceError(RuntimeError):
+class DistortionDivergenceError(ConvergenceError):
     """The inversion did not converge; ``.report`` and ``.index`` (first bad point) tell more.
 
     ``.converging`` is True when the run was stopped by ``max_iter`` while its steps were

@@ -20,6 +20,7 @@ import numpy as np
 
 from photolib._validate import as_float_array, as_max_iter, as_tolerance, check_finite
 from photolib.transforms._base import ConvergenceError
+from photolib.errors import StartOutsideImageError  # noqa: F401 - raised here, defined in one hierarchy
 
 __all__ = ["PARAMETER_NAMES", "LSMResult", "StartOutsideImageError", "least_squares_matching",
            "lsm_design_matrix"]
@@ -27,14 +28,6 @@ __all__ = ["PARAMETER_NAMES", "LSMResult", "StartOutsideImageError", "least_squa
 #: order of the eight unknowns
 PARAMETER_NAMES = ("a0", "a1", "a2", "b0", "b1", "b2", "r0", "r1")
 
-
-class StartOutsideImageError(ValueError, ConvergenceError):
-    """The start values put the patch outside the search image: bad input, no iteration ran.
-
-    A ``ValueError`` (the contract for bad input), and also a ``ConvergenceError`` so that
-    callers written for the earlier behaviour (``except ConvergenceError``) still catch it.
-    Its ``history`` attribute holds the start parameters, shape (1, 8).
-    """
 
 
 class LSMResult(NamedTuple):
@@ -166,7 +159,7 @@ def least_squares_matching(template, search, initial, *, tol: float = 1e-4, max_
         If the template is flat (no grey-value gradient: the shifts are undetermined) or the
         normal equations are singular.
     StartOutsideImageError
-        A ``ValueError`` (and a ``ConvergenceError``, for older callers) naming ``initial``
+        A ``ValueError`` (:class:`photolib.errors.InputError`) naming ``initial``
         when the patch at the start values does not lie inside the search image.
     ConvergenceError
         If the patch leaves the search image (divergence; the exception's ``history``

@@ -14,6 +14,7 @@ import numpy as np
 from photolib._docs import shared_doc
 from photolib._generated.rotation import rotation_opk_elements, rotation_pok_elements
 from photolib._validate import as_float_array, as_rotation, as_vector3, check_finite
+from photolib.errors import GimbalLockError  # noqa: F401 - raised here, defined in one hierarchy
 
 __all__ = [
     "GimbalLockError", "rotation_opk", "opk_from_rotation", "rotation_pok", "pok_from_rotation",
@@ -25,8 +26,6 @@ __all__ = [
 GIMBAL_TOL = 1e-9
 
 
-class GimbalLockError(ValueError):
-    """The secondary angle is ±π/2: the primary and tertiary angles are not separable."""
 
 #: the end of the parameters and the result of :func:`rotation_opk` and :func:`rotation_pok`
 _ROTATION_RESULT = """    Arrays broadcast; the result then has shape ``(..., 3, 3)``.

@@ -10,6 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from photolib.matching import PARAMETER_NAMES, least_squares_matching, lsm_design_matrix
+from photolib.errors import InputError
 from photolib.transforms._base import ConvergenceError
 
 
@@ -163,11 +164,12 @@ def test_iteration_controls_are_checked(kwargs, text):
 
 @pytest.mark.parametrize("start", [(3.0, 3.0), (-50.0, 30.0)])
 def test_a_start_outside_the_search_image_is_not_called_a_divergence(start):
-    with pytest.raises(ConvergenceError, match=r"cannot start: the patch at the initial "
+    with pytest.raises(ValueError, match=r"cannot start: the patch at the initial "
                                                r"position .* does not lie inside the search "
                                                r"image of 64 × 64 pixels") as info:
         least_squares_matching(_template(TRUE), _search(), start)
     assert "diverged" not in str(info.value) and info.value.history.shape == (1, 8)
+    assert not isinstance(info.value, ConvergenceError)     # no iteration ran
 
 
 def test_complex_or_text_images_are_refused():
@@ -189,7 +191,7 @@ def test_a_start_outside_the_image_is_a_value_error_naming_initial(start):
     with pytest.raises(ValueError, match=r"initial = \(") as info:
         least_squares_matching(_template(TRUE), _search(), start)
     err = info.value
-    assert isinstance(err, StartOutsideImageError) and isinstance(err, ConvergenceError)
+    assert isinstance(err, StartOutsideImageError) and isinstance(err, InputError)
     assert f"initial = ({start[0]!r}, {start[1]!r})" in str(err)
     assert err.history.shape == (1, 8)
 

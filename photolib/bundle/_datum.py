@@ -13,10 +13,8 @@ import numpy as np
 
 from photolib._validate import as_points
 from photolib.bundle._inputs import _XYZ
+from photolib.errors import DatumError  # noqa: F401 - raised here, defined in one hierarchy
 
-
-class DatumError(ValueError):
-    """The datum is not fixed or the normal equations are singular (names the reason)."""
 
 
 def inner_constraints(points) -> np.ndarray:

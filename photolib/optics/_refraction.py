@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from photolib.optics._checks import _array, _finite, _out
+from photolib.errors import TotalInternalReflectionError  # noqa: F401 - raised here, defined in one hierarchy
 
 
 #: Sellmeier coefficients (B1, B2, B3, C1, C2, C3), C in µm², from the Schott catalogue
@@ -30,9 +31,6 @@ GLASSES = {
 #: Fraunhofer lines d (helium, 587.56 nm), F (hydrogen, 486.13 nm), C (hydrogen, 656.27 nm), µm
 D_LINE, F_LINE, C_LINE = 0.5875618, 0.4861327, 0.6562725
 
-
-class TotalInternalReflectionError(ValueError):
-    """Snell's law has no solution: n1·sin α > n2, the ray is totally reflected."""
 
 
 # -- refraction and reflection --------------------------------------------------------------------

@@ -19,10 +19,8 @@ from typing import NamedTuple
 import numpy as np
 
 from photolib.optics._checks import _array, _finite, _out
+from photolib.errors import NoRealImageError  # noqa: F401 - raised here, defined in one hierarchy
 
-
-class NoRealImageError(ValueError):
-    """The object is at or inside the focal length: a thin lens forms no real image."""
 
 
 class DepthOfField(NamedTuple):

@@ -12,10 +12,8 @@ import numpy as np
 
 from photolib._validate import as_float_array, as_scalar, check_finite
 from photolib.rectify import _origin, output_grid, sample_image
+from photolib.errors import OutsideModelError  # noqa: F401 - raised here, defined in one hierarchy
 
-
-class OutsideModelError(ValueError):
-    """A plan position lies outside the grid of a terrain or surface model."""
 
 
 class DTM:

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from photolib._validate import as_max_iter, as_point_pairs, as_points, as_tolerance
+from photolib.errors import ConvergenceError, DegenerateGeometryError  # noqa: F401 - raised here, defined in one hierarchy
 
 __all__ = [
     "ComposedTransform",
@@ -22,12 +23,6 @@ __all__ = [
 ]
 
 
-class ConvergenceError(RuntimeError):
-    """An iteration did not reach its tolerance within its iteration limit, or diverged."""
-
-
-class DegenerateGeometryError(ValueError):
-    """The point configuration does not determine the parameters (e.g. collinear points)."""
 
 
 def hartley_normalisation(points: np.ndarray) -> tuple[np.ndarray, float]:
