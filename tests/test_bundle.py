@@ -281,7 +281,7 @@ def test_gross_error_is_found_by_data_snooping():
     for snoop in (bd.data_snooping(res, 1e-5, sigma=0.003), bd.data_snooping(res, 1e-5)):
         assert snoop.worst == (k, 0), snoop.test
     w = bd.data_snooping(res, 0.001, sigma=0.003)
-    np.testing.assert_allclose(w.statistic, res.standardized_residuals * res.sigma0 / 0.003)
+    np.testing.assert_allclose(w.statistic, res.standardised_residuals * res.sigma0 / 0.003)
     assert w.critical == pytest.approx(stats.norm.ppf(1 - 0.0005), abs=1e-12)
 
 
@@ -683,7 +683,7 @@ def test_weighted_and_partial_control_agree_with_scipy(mixed_control):
     assert np.all(res.control_redundancy_numbers[~observed] == 0.0)
     assert math.isclose(res.redundancy_numbers.sum() + res.control_redundancy_numbers.sum(), r,
                         rel_tol=1e-9)
-    tau = res.control_standardized_residuals
+    tau = res.control_standardised_residuals
     assert np.all(np.isfinite(tau[observed])) and np.all(np.isnan(tau[~observed]))
 
 
@@ -842,3 +842,14 @@ def test_inner_constraints_refuse_too_few_or_collinear_points(points, match):
 def test_inner_constraints_of_three_points_have_rank_7():
     B = bd.inner_constraints([[0.0, 0, 0], [1.0, 0, 0], [0.0, 1, 0.2]])
     assert B.shape == (9, 7) and np.linalg.matrix_rank(B) == 7
+
+
+def test_the_old_spelling_of_the_standardised_residuals_still_works_with_a_warning(block):
+    """One spelling convention (-ise, as quantise, normalise): standardized_residuals moved."""
+    res = block[-1]
+    with pytest.warns(DeprecationWarning, match="standardised_residuals"):
+        old = res.standardized_residuals
+    np.testing.assert_array_equal(old, res.standardised_residuals)
+    with pytest.warns(DeprecationWarning, match="control_standardised_residuals"):
+        old = res.control_standardized_residuals
+    np.testing.assert_array_equal(old, res.control_standardised_residuals)

@@ -87,11 +87,11 @@ def data_snooping(result: BundleResult, alpha: float = 0.001, sigma: float | Non
     """
     if sigma is None:
         test, crit = "tau", critical_value(alpha, "tau", result.redundancy)
-        stat = result.standardized_residuals
+        stat = result.standardised_residuals
     else:
         sigma = as_scalar(sigma, "sigma", positive=True)
         test, crit = "w", critical_value(alpha, "normal")
-        stat = result.standardized_residuals * (result.sigma0 / sigma)
+        stat = result.standardised_residuals * (result.sigma0 / sigma)
     mag = np.where(np.isfinite(stat), np.abs(stat), -1.0)
     idx = np.argwhere(mag > crit)
     order = np.argsort(-mag[idx[:, 0], idx[:, 1]], kind="stable") if len(idx) else []

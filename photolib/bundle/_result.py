@@ -63,14 +63,14 @@ class BundleResult:
     control_redundancy_numbers: np.ndarray | None = None  #: (P, 3) r_c = p·q_vv,c (0: none)
 
     @property
-    def standardized_residuals(self) -> np.ndarray:
+    def standardised_residuals(self) -> np.ndarray:
         """τ_k = v_k / (σ̂0 √q_vv,k), (N, 2); NaN where q_vv = 0 (uncontrolled)."""
         with np.errstate(divide="ignore", invalid="ignore"):
             return np.where(self.qvv > 1e-12, self.residuals / (self.sigma0 * np.sqrt(
                 np.maximum(self.qvv, 1e-300))), np.nan)
 
     @property
-    def control_standardized_residuals(self) -> np.ndarray:
+    def control_standardised_residuals(self) -> np.ndarray:
         """τ_c = v_c / (σ̂0 √q_vv,c), (P, 3), for the control coordinates observed with
         0 < σ < ∞; NaN elsewhere."""
         q = self.control_qvv
@@ -80,6 +80,18 @@ class BundleResult:
             return np.where(q > 1e-300, self.control_residuals / (self.sigma0 * np.sqrt(
                 np.maximum(q, 1e-300))), np.nan)
 
+
+    @property
+    def standardized_residuals(self) -> np.ndarray:
+        """Deprecated spelling of :attr:`standardised_residuals` (the course writes -ise)."""
+        _spelling_moved("standardized_residuals", "standardised_residuals")
+        return self.standardised_residuals
+
+    @property
+    def control_standardized_residuals(self) -> np.ndarray:
+        """Deprecated spelling of :attr:`control_standardised_residuals`."""
+        _spelling_moved("control_standardized_residuals", "control_standardised_residuals")
+        return self.control_standardised_residuals
     @property
     def point_std(self) -> np.ndarray:
         """(P, 3) standard deviations σX, σY, σZ of the object points."""
@@ -89,3 +101,9 @@ class BundleResult:
         """``{'c': …, 'x0': …, 'y0': …, 'A1': …, …}`` of the adjusted camera."""
         return {"c": float(self.c), "x0": float(self.x0), "y0": float(self.y0)} | {
             k: float(v) for k, v in self.distortion.params.items() if k in _DIST}
+
+
+def _spelling_moved(old: str, new: str) -> None:
+    import warnings
+    warnings.warn(f"BundleResult.{old} is now BundleResult.{new} (one spelling: -ise); the "
+                  "old name goes in the next release", DeprecationWarning, stacklevel=3)
