@@ -121,6 +121,7 @@ _EXPORTS = {
     "ReliabilityResult": "bundle", "non_centrality": "bundle", "reliability": "bundle",
     # the bases of the error hierarchy (photolib.errors); the leaves are listed above
     "PhotolibError": "errors", "InputError": "errors", "GeometryError": "errors",
+    "ExteriorOrientation": "exterior",
 }
 
 #: deprecated names: still importable (they warn when called), not in ``__all__``;

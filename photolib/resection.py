@@ -57,6 +57,12 @@ class ResectionResult:
         return np.r_[self.X0, self.omega, self.phi, self.kappa]
 
     @property
+    def orientation(self):
+        """The result as a :class:`photolib.ExteriorOrientation` (``X0``, ``R``)."""
+        from photolib.exterior import ExteriorOrientation
+        return ExteriorOrientation(self.X0, self.R)
+
+    @property
     def std(self) -> np.ndarray:
         """Standard deviations of ``params`` (sqrt of the covariance diagonal)."""
         return np.sqrt(np.diag(self.covariance))

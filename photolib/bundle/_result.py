@@ -63,6 +63,13 @@ class BundleResult:
     control_redundancy_numbers: np.ndarray | None = None  #: (P, 3) r_c = p·q_vv,c (0: none)
 
     @property
+    def orientations(self) -> tuple:
+        """The adjusted exterior orientations as :class:`photolib.ExteriorOrientation`, one per
+        image."""
+        from photolib.exterior import ExteriorOrientation
+        return tuple(ExteriorOrientation.from_params(e) for e in self.exterior)
+
+    @property
     def standardised_residuals(self) -> np.ndarray:
         """τ_k = v_k / (σ̂0 √q_vv,k), (N, 2); NaN where q_vv = 0 (uncontrolled)."""
         with np.errstate(divide="ignore", invalid="ignore"):
