@@ -72,4 +72,4 @@ def test_bad_values_are_named():
         ExteriorOrientation.from_params([0, 0, np.nan, 0, 0, 0])
     locked = ExteriorOrientation([0.0, 0.0, 1.0], pl.rotation_opk(0.1, np.pi / 2, 0.2))
     with pytest.raises(pl.GimbalLockError):
-        locked.params
+        locked.params  # noqa: B018 - the property raises

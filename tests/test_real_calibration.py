@@ -159,7 +159,10 @@ def test_resection_of_a_real_view(cal):
     o = view.ours
     assert o.converged and o.redundancy == 2 * 54 - 6
     X0_same, R_same = view.same_input  # solvePnP, same points and K: the same minimum
-    assert np.max(np.abs(X0_same - o.X0)) < 1e-5 and np.max(np.abs(R_same - o.R)) < 1e-8
+    # ours is converged (a run to tol 1e-14 moves X0 by < 1e-11 mm); solvePnPRefineLM stops
+    # short of it by up to ~1e-5 mm at 370 mm (measured 1.2e-5 mm in X on view 0, 3e-8 of
+    # the distance; R by 2.6e-8): allow 5e-5 mm (1.4e-7 of the distance) and 1e-7 in R
+    assert np.max(np.abs(X0_same - o.X0)) < 5e-5 and np.max(np.abs(R_same - o.R)) < 1e-7
     X0_b, R_b, cov = view.bundle  # fixed interior: the bundle's pose of this view
     assert np.max(np.abs(X0_b - o.X0)) < 1e-6 and np.max(np.abs(R_b - o.R)) < 1e-9
     X0_cv, _ = view.opencv_own  # OpenCV's own calibration, within the calibration's σ

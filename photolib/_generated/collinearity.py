@@ -1,12 +1,12 @@
 # generated from photolib/derive/collinearity.py, do not edit
-# source sha256: ca4d2dcd797eb54311fd725e9890a92c42bbd3956430165938911b77273bd070
+# source sha256: 58995f6f71453b8d647c01e5afafcf295ea17f26e62a379d0236c7998ee706eb
 # hashed: derive/collinearity.py, derive/_spec.py, derive/rotation.py
 # regenerate with: python -m photolib codegen   (SymPy 1.14)
 """NumPy code generated from :mod:`photolib.derive.collinearity`."""
 
 import numpy as np
 
-__all__ = ['collinearity_jacobian_opk', 'project_r']
+__all__ = ['collinearity_jacobian_interior', 'collinearity_jacobian_opk', 'project_r']
 
 
 def project_r(X, Y, Z, X0, Y0, Z0, r11, r12, r13, r21, r22, r23, r31, r32, r33, c, x0, y0):
@@ -96,3 +96,24 @@ def collinearity_jacobian_opk(X, Y, Z, X0, Y0, Z0, omega, phi, kappa, c):
     dx_dZ = -_t12*_t22 + _t38
     dy_dZ = -_t12*_t27 + _t40
     return dx_dX0, dy_dX0, dx_dY0, dy_dY0, dx_dZ0, dy_dZ0, dx_domega, dy_domega, dx_dphi, dy_dphi, dx_dkappa, dy_dkappa, dx_dX, dy_dX, dx_dY, dy_dY, dx_dZ, dy_dZ
+
+
+def collinearity_jacobian_interior(X, Y, Z, X0, Y0, Z0, r11, r12, r13, r21, r22, r23, r31, r32, r33, c):
+    """∂x'/∂q and ∂y'/∂q for the interior orientation q in (c, x'0, y'0) of the ideal model
+    x' = x'0 − c·kx/N, y' = y'0 − c·ky/N, for a general R given by its elements r11..r33
+    (dimensionless): the bundle adjustment's self-calibration columns before the
+    distortion's share.
+
+    Returns (dx_dc, dy_dc, dx_dx0, dy_dx0, dx_dy0, dy_dy0); all arguments broadcast like NumPy arrays.
+    """
+    _t0 = X - X0
+    _t1 = Y - Y0
+    _t2 = Z - Z0
+    _t3 = (_t0*r13 + _t1*r23 + _t2*r33)**(-1.0)
+    dx_dc = -_t3*(_t0*r11 + _t1*r21 + _t2*r31)
+    dy_dc = -_t3*(_t0*r12 + _t1*r22 + _t2*r32)
+    dx_dx0 = np.zeros(np.broadcast(X, Y, Z, X0, Y0, Z0, r11, r12, r13, r21, r22, r23, r31, r32, r33, c).shape) + 1
+    dy_dx0 = np.zeros(np.broadcast(X, Y, Z, X0, Y0, Z0, r11, r12, r13, r21, r22, r23, r31, r32, r33, c).shape) + 0
+    dx_dy0 = np.zeros(np.broadcast(X, Y, Z, X0, Y0, Z0, r11, r12, r13, r21, r22, r23, r31, r32, r33, c).shape) + 0
+    dy_dy0 = np.zeros(np.broadcast(X, Y, Z, X0, Y0, Z0, r11, r12, r13, r21, r22, r23, r31, r32, r33, c).shape) + 1
+    return dx_dc, dy_dc, dx_dx0, dy_dx0, dx_dy0, dy_dy0

@@ -17,7 +17,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from photolib._generated.collinearity import collinearity_jacobian_opk, project_r
+from photolib._generated.collinearity import (
+    collinearity_jacobian_interior,
+    collinearity_jacobian_opk,
+    project_r,
+)
 from photolib._validate import as_max_iter, as_scalar, as_tolerance
 from photolib.bundle._blocks import (
     Layout,
@@ -234,18 +238,20 @@ def linearise(prob: _Problem, lay: Layout, ext, pts, interior):
     dJ = collinearity_jacobian_opk(*X, *E, interior["c"])
     J = np.stack(np.broadcast_arrays(*dJ), axis=-1).reshape(-1, 9, 2).transpose(0, 2, 1)
     A = np.concatenate([J[:, :, :6], np.zeros((len(xy), 2, k))], axis=2)
-    if "c" in calib:
-        A[:, :, 6 + calib.index("c")] = (proj - pp) / interior["c"]
     if not dist.is_zero:
         v += dist.delta(red)
     if k:
+        # the ideal model's columns for c, x'0, y'0 (generated from derive/collinearity.py),
+        # then the distortion's share: Δ(x'_obs − x'0) adds −∂Δ/∂x' to x'0, y'0
+        ideal = collinearity_jacobian_interior(*X, *E[:3], *R, interior["c"])
+        ideal = np.stack(np.broadcast_arrays(*ideal), axis=-1).reshape(-1, 3, 2)
         Jxy, Jpar = dist.jacobian_xy(red), dist.jacobian_params(red)
         for n, name in enumerate(calib):
-            if name in ("x0", "y0"):
-                e = 0 if name == "x0" else 1
-                A[:, :, 6 + n] = -Jxy[:, :, e]
-                A[:, e, 6 + n] += 1.0
-            elif name != "c":
+            if name in ("c", "x0", "y0"):
+                A[:, :, 6 + n] = ideal[:, ("c", "x0", "y0").index(name), :]
+                if name != "c":
+                    A[:, :, 6 + n] -= Jxy[:, :, 0 if name == "x0" else 1]
+            else:
                 A[:, :, 6 + n] = Jpar[:, :, _DIST.index(name)]
     Ap = np.ascontiguousarray(J[:, :, 6:])
     if lay.partial:

@@ -118,6 +118,21 @@ def _jacobian_outputs():
                  for i, axis in enumerate(("x", "y")))
 
 
+#: the interior orientation's parameters in the ideal model, in the order of
+#: ``collinearity_jacobian_interior``'s outputs
+INTERIOR = ("c", "x0", "y0")
+
+
+def _interior_outputs():
+    """``∂x'/∂q``, ``∂y'/∂q`` for q in (c, x'0, y'0) of the ideal model (general R): the
+    self-calibration columns of the bundle adjustment (distortion's part is added there)."""
+    R = rotation_symbols()
+    xs, ys = image_coordinates(R)
+    sym = {"c": c, "x0": x0, "y0": y0}
+    return tuple((f"d{axis}_d{name}", sp.diff(e, sym[name])) for name in INTERIOR
+                 for axis, e in (("x", xs), ("y", ys)))
+
+
 @functools.cache
 def codegen_functions() -> tuple:
     """The functions to generate (built on first use: the Jacobians take a second to derive)."""
@@ -136,6 +151,15 @@ def codegen_functions() -> tuple:
             outputs=_jacobian_outputs(),
             doc="∂x'/∂p and ∂y'/∂p for p in (X0, Y0, Z0, ω, φ, κ, X, Y, Z), R = R_ω·R_φ·R_κ; "
                 "image unit per object unit for lengths, image unit per radian for angles.",
+        ),
+        GeneratedFunction(
+            name="collinearity_jacobian_interior",
+            args=(X, Y, Z, X0, Y0, Z0, *r, c),
+            outputs=_interior_outputs(),
+            doc="∂x'/∂q and ∂y'/∂q for the interior orientation q in (c, x'0, y'0) of the ideal "
+                "model x' = x'0 − c·kx/N, y' = y'0 − c·ky/N, for a general R given by its "
+                "elements r11..r33 (dimensionless): the bundle adjustment's self-calibration "
+                "columns before the distortion's share.",
         ),
     )
 
