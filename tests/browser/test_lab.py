@@ -74,7 +74,15 @@ def _state(widget):
 
 
 @pytest.mark.parametrize("chapter", CHAPTERS)
-def test_chapter_runs_and_widgets_react(lab_url, lab_log, page, artifacts, chapter):
+def test_chapter_runs_and_widgets_react(lab_url, lab_log, hidpi_page, artifacts, screenshots,
+                                        chapter):
+    """Run All, then what a student sees before touching anything (issue 14, point 8: every
+    widget image at two device pixels per CSS pixel, no control label truncated; checked on
+    this run, at device scale 2, instead of running every chapter a second time), then every
+    widget's first slider dragged: its figure and its text change."""
+    from .test_student_view import _IMAGES, _TRUNCATED
+
+    page = hidpi_page
     errors = []
     page.on("pageerror", lambda exc: errors.append(str(exc)))
     # ?reset: a fresh workspace, or JupyterLab reopens every earlier chapter in a tab of its
@@ -83,6 +91,19 @@ def test_chapter_runs_and_widgets_react(lab_url, lab_log, page, artifacts, chapt
     _run_all(page, lab_log)
     widgets = page.locator(".photolib-explorer")
     widgets.first.wait_for(timeout=30_000)
+    first = widgets.first
+    first.scroll_into_view_if_needed()
+    first.locator("img").first.wait_for(timeout=20_000)
+    page.wait_for_function(
+        "() => Array.from(document.querySelectorAll('.photolib-explorer img'))"
+        ".every(img => img.complete && img.naturalWidth > 0)", timeout=30_000)
+    first.screenshot(path=str(screenshots / f"widget-{chapter}.png"))
+    images = page.evaluate(_IMAGES)
+    assert images, f"{chapter}: no widget image"
+    blurry = [im for im in images if im["natural"] < 2 * im["css"] - 0.5]
+    assert not blurry, f"{chapter}: widget images with less than 2 device px per CSS px: {blurry}"
+    truncated = page.evaluate(_TRUNCATED)
+    assert truncated == [], f"{chapter}: truncated control labels {truncated}"
     n = widgets.count()
     assert n >= 2, f"{chapter}: expected at least two widgets, found {n}"
     for i in range(n):

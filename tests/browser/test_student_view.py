@@ -3,7 +3,9 @@
 * A student exercise copy, run all: the rendered task statements (the output areas) have no
   number broken across two lines.
 * A chapter with widgets: every widget image has at least two device pixels per CSS pixel
-  (natural width ≥ 2 × the width it is laid out at), and no control label is truncated.
+  (natural width ≥ 2 × the width it is laid out at), and no control label is truncated —
+  checked in ``test_lab.test_chapter_runs_and_widgets_react`` on the same Run All (the
+  JavaScript probes ``_IMAGES`` and ``_TRUNCATED`` are defined here).
 
 Screenshots go to ``test-artifacts/screenshots/`` (gitignored).
 """
@@ -138,25 +140,3 @@ def test_split_number_check_finds_a_split_number(lab_url, hidpi_page):
         document.body.appendChild(out);
     }""")
     assert page.evaluate(_SPLIT_NUMBERS) != []
-
-
-@pytest.mark.parametrize("chapter", CHAPTERS)
-def test_widgets_sharp_and_labels_whole(lab_url, lab_log, hidpi_page, screenshots, chapter):
-    page = hidpi_page
-    page.goto(f"{lab_url}/lab/tree/notebooks/{chapter}.ipynb?reset")
-    _run_all(page, lab_log)
-    widgets = page.locator(".photolib-explorer")
-    widgets.first.wait_for(timeout=30_000)
-    first = widgets.first
-    first.scroll_into_view_if_needed()
-    first.locator("img").first.wait_for(timeout=20_000)
-    page.wait_for_function(
-        "() => Array.from(document.querySelectorAll('.photolib-explorer img'))"
-        ".every(img => img.complete && img.naturalWidth > 0)", timeout=30_000)
-    first.screenshot(path=str(screenshots / f"widget-{chapter}.png"))
-    images = page.evaluate(_IMAGES)
-    assert images, f"{chapter}: no widget image"
-    blurry = [im for im in images if im["natural"] < 2 * im["css"] - 0.5]
-    assert not blurry, f"{chapter}: widget images with less than 2 device px per CSS px: {blurry}"
-    truncated = page.evaluate(_TRUNCATED)
-    assert truncated == [], f"{chapter}: truncated control labels {truncated}"
