@@ -7,6 +7,8 @@ estimable classes, ``from_estimate(src, dst)`` with ``residuals`` and ``sigma0``
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from photolib._validate import as_max_iter, as_point_pairs, as_points, as_tolerance
@@ -98,12 +100,16 @@ class PlaneTransform:
         result = self._compose(other)
         return result if result is not None else ComposedTransform(self, other)
 
-    def _set_fit(self, src: np.ndarray, dst: np.ndarray) -> None:
-        """Store residuals, redundancy r = 2N − u and σ0 = sqrt(vᵀv / r) (NaN when r = 0)."""
-        self.residuals = self._forward(src) - dst
+    def _set_fit(self, src: np.ndarray, dst: np.ndarray,
+                 residuals: np.ndarray | None = None) -> None:
+        """Store residuals, redundancy r = 2N − u and σ0 = sqrt(vᵀv / r) (NaN when r = 0).
+
+        ``residuals`` = ``T(src) − dst`` if the estimator has them already (equal to
+        rounding), else they are computed."""
+        self.residuals = self._forward(src) - dst if residuals is None else residuals
         self.redundancy = 2 * len(src) - self.n_params
         vtv = float(np.sum(self.residuals**2))
-        self.sigma0 = float(np.sqrt(vtv / self.redundancy)) if self.redundancy > 0 else float("nan")
+        self.sigma0 = math.sqrt(vtv / self.redundancy) if self.redundancy > 0 else float("nan")
         self._src = src
 
     def __repr__(self) -> str:

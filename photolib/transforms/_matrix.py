@@ -6,9 +6,12 @@ inverses and composition is the matrix product (the result takes the more genera
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from photolib._validate import as_scalar
+from photolib._validate import as_max_iter, as_scalar
+from photolib.transforms._homography import four_point_homography, many_point_homography
 from photolib.transforms._base import (
     DegenerateGeometryError,
     PlaneTransform,
@@ -274,12 +277,16 @@ class ProjectiveTransform(_MatrixTransform):
 
     @classmethod
     def _from_matrix(cls, H):
-        scale = np.abs(H).max()
-        if abs(H[2, 2]) <= 1e-12 * scale:
-            return None  # origin maps to infinity: not in Luhmann's form; compose generically
-        H = H / H[2, 2]
-        return cls(a0=H[0, 2], a1=H[0, 0], a2=H[0, 1], b0=H[1, 2], b1=H[1, 0], b2=H[1, 1],
-                   c1=H[2, 0], c2=H[2, 1])
+        """From a finite 3 × 3 H (array or nested lists), scaled to h33 = 1; ``None`` if
+        h33 = 0 (the src origin maps to infinity: not in Luhmann's form)."""
+        (a1, a2, a0), (b1, b2, b0), (c1, c2, h33) = H.tolist() if hasattr(H, "tolist") else H
+        if abs(h33) <= 1e-12 * max(abs(a1), abs(a2), abs(a0), abs(b1), abs(b2), abs(b0),
+                                   abs(c1), abs(c2), abs(h33)):
+            return None  # compose generically
+        out = cls.__new__(cls)  # the values are finite floats: no re-validation
+        for k, v in zip(cls._names, (a0, a1, a2, b0, b1, b2, c1, c2)):
+            setattr(out, k, v / h33)
+        return out
 
     def _denominator(self, p):
         w = 1.0 + self.c1 * p[:, 0] + self.c2 * p[:, 1]
@@ -342,14 +349,14 @@ class ProjectiveTransform(_MatrixTransform):
     def from_estimate(cls, src, dst, max_iter: int = 20) -> ProjectiveTransform:
         r"""Least-squares estimate from ≥ 4 point pairs, no three of four collinear.
 
-        Both point sets are normalised (centroid 0, mean distance √2). Four pairs determine
-        H exactly: the 8 × 8 linear system with ``h33 = 1`` (the normalised src centroid is
-        finite) or, if that is singular, the null vector of the 8 × 9 DLT matrix. With more
-        pairs the normalised DLT (the smallest right singular vector of the 2N × 9 matrix,
-        from its 9 × 9 triangular factor R) starts a Gauss–Newton adjustment of the
-        observation equations 2.18 (residuals in dst, minimum-norm steps ``hᵀdh = 0``, the
-        9 × 9 normal equations), until ``‖dh‖ ≤ 1e-12·‖h‖`` or ``max_iter`` steps, so
-        the result minimises ``Σ|T(src) − dst|²``:
+        Both point sets are normalised (centroid 0, RMS distance √2). Four pairs determine
+        H exactly, in closed form from the four triangle determinants of each set
+        (:mod:`photolib.transforms._homography`). With more pairs the normalised DLT (the
+        eigenvector of the smallest eigenvalue of AᵀA) starts a Gauss–Newton adjustment of
+        the observation equations 2.18 (residuals in dst, minimum-norm steps ``hᵀdh = 0``,
+        the 9 × 9 normal equations from per-point weighted moments), until the change of
+        the unit vector h is below 1e-12 (or ``max_iter`` steps), so the result minimises
+        ``Σ|T(src) − dst|²``:
 
         .. math:: X = \frac{h_1 x + h_2 y + h_3}{h_7 x + h_8 y + h_9},\quad
                   Y = \frac{h_4 x + h_5 y + h_6}{h_7 x + h_8 y + h_9}
@@ -358,134 +365,18 @@ class ProjectiveTransform(_MatrixTransform):
         of four, naming them) and for a solution that sends a point to infinity.
         """
         src, dst = check_pairs(src, dst, 4, cls.__name__)
-        name, n = cls.__name__, len(src)
-        _check_projective_geometry(src, dst, name)
-        (cs, cd), (ss, sd) = _normalisations(src, dst)
-        u, U = ss * (src - cs), sd * (dst - cd)
-        A = np.zeros((2 * n, 9))
-        A[0::2, 0:2], A[0::2, 2] = u, 1.0
-        A[1::2, 3:5], A[1::2, 5] = u, 1.0
-        A[0::2, 6:8], A[0::2, 8] = -U[:, :1] * u, -U[:, 0]
-        A[1::2, 6:8], A[1::2, 8] = -U[:, 1:] * u, -U[:, 1]
-        if n == 4:
-            h = _minimal_homography(A, name)
+        name = cls.__name__
+        if len(src) == 4:
+            H, residuals = four_point_homography(src, dst, name)
         else:
-            sv, Vt = np.linalg.svd(np.linalg.qr(A, mode="r"))[1:]
-            if sv[7] <= RANK_TOL * sv[0]:
-                raise DegenerateGeometryError(
-                    f"{name}: degenerate point geometry (three of the points collinear?); "
-                    "the 8 parameters are not determined")
-            h = Vt[-1]
-        _check_finite_images(h, u, src, name)
-        if n > 4:
-            h = _gauss_newton_homography(h, u, U, max_iter, name)
-        H = np.linalg.inv(_norm_matrix(cd, sd)) @ h.reshape(3, 3) @ _norm_matrix(cs, ss)
+            H, residuals = many_point_homography(src, dst, as_max_iter(max_iter), name)
+        if not math.isfinite(sum(map(sum, H))):
+            raise DegenerateGeometryError(f"{name}: the estimate is not finite; the point "
+                                          "geometry does not determine the transformation")
         out = cls._from_matrix(H)
         if out is None:
             raise DegenerateGeometryError(
                 "the estimated homography maps the src origin to infinity, which the form of "
                 "Luhmann 2.18 (denominator 1 + c1·x + c2·y) cannot express; shift the src origin")
-        out._set_fit(src, dst)
+        out._set_fit(src, dst, residuals)
         return out
-
-
-def _collinearity_ratios(P):
-    """σ_min/σ_max of the centred point sets ``P`` (..., n, 2), in closed form from the
-    2 × 2 scatter matrix: ``λ = (tr ± √(tr² − 4 det))/2``, ratio ``√(λ_min/λ_max)``."""
-    Q = P - P.mean(axis=-2, keepdims=True)
-    x, y = Q[..., 0], Q[..., 1]
-    a, b, c = (x * x).sum(axis=-1), (x * y).sum(axis=-1), (y * y).sum(axis=-1)
-    tr, det = a + c, np.maximum(a * c - b * b, 0.0)
-    big = 0.5 * (tr + np.sqrt(np.maximum(tr * tr - 4.0 * det, 0.0)))
-    return np.sqrt(det / np.where(big > 0, big, np.inf) ** 2)
-
-
-_TRIPLES = np.array([[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]])
-
-
-def _check_projective_geometry(src, dst, name):
-    """One pass over both point sets: all points collinear, or (four pairs) three of them,
-    by the ratio of :func:`~photolib.transforms._base.collinearity_ratio` (< 1e-9)."""
-    both = np.stack([src, dst])
-    whole = _collinearity_ratios(both)
-    for q, which in enumerate(("src", "dst")):
-        if whole[q] < 1e-9:
-            raise DegenerateGeometryError(
-                f"{name}: the {which} points are collinear; the transformation is not determined")
-    if len(src) == 4:
-        bad = np.argwhere(_collinearity_ratios(both[:, _TRIPLES]) < 1e-9)
-        if len(bad):
-            k = _TRIPLES[bad[0, 1]].tolist()
-            raise DegenerateGeometryError(
-                f"{name}: degenerate point geometry, three of the points collinear "
-                f"({('src', 'dst')[bad[0, 0]]} points {k[0]}, {k[1]}, {k[2]}); with only four "
-                "point pairs the 8 parameters are then not determined")
-
-
-def _normalisations(src, dst):
-    """:func:`~photolib.transforms._base.hartley_normalisation` of both sets at once:
-    centroids (2, 2) and scales (2,) with ``s·(p − centroid)`` at mean distance √2."""
-    both = np.stack([src, dst])
-    cen = both.mean(axis=1)
-    dist = np.sqrt(((both - cen[:, None]) ** 2).sum(axis=2)).mean(axis=1)
-    ref = np.maximum(1.0, np.abs(both).max(axis=(1, 2)))
-    if np.any(dist <= 1e-12 * ref):
-        raise DegenerateGeometryError("all points coincide; no transformation is determined")
-    return cen, np.sqrt(2.0) / dist
-
-
-def _minimal_homography(A, name):
-    """The exact h (9,) of four normalised pairs: ``A[:, :8] h' = −A[:, 8]`` with h33 = 1,
-    else the null vector of the 8 × 9 A."""
-    try:
-        h = np.append(np.linalg.solve(A[:, :8], -A[:, 8]), 1.0)
-        if np.all(np.isfinite(h)) and np.abs(h).max() < 1e8:
-            return h / np.linalg.norm(h)
-    except np.linalg.LinAlgError:
-        pass
-    sv, Vt = np.linalg.svd(np.vstack([A, np.zeros((1, 9))]))[1:]
-    if sv[7] <= RANK_TOL * sv[0]:
-        raise DegenerateGeometryError(
-            f"{name}: degenerate point geometry (three of the points collinear?); "
-            "the 8 parameters are not determined")
-    return Vt[-1]
-
-
-def _check_finite_images(h, u, src, name):
-    """``DegenerateGeometryError`` naming the first src point that h maps to infinity."""
-    w = u @ h[6:8] + h[8]
-    at_infinity = ~(np.abs(w) > 1e-12 * (np.abs(u) @ np.abs(h[6:8]) + abs(h[8])))
-    if at_infinity.any():
-        k = int(np.flatnonzero(at_infinity)[0])
-        raise DegenerateGeometryError(
-            f"{name}: the linear solution maps src point {k} {src[k].tolist()} to "
-            "infinity (denominator w = 0): the point geometry is degenerate (e.g. three "
-            "points collinear in src but not in dst, or the other way round)")
-
-
-def _gauss_newton_homography(h, u, U, max_iter, name):
-    """Gauss–Newton on the geometric residuals ``T_h(u) − U`` (normalised units): the
-    normal equations ``JᵀJ dh = −Jᵀr`` bordered by ``hᵀdh = 0`` (10 × 10), h kept at norm 1."""
-    n = len(u)
-    J = np.empty((2 * n, 9))
-    K = np.zeros((10, 10))
-    for _ in range(max_iter):
-        w = u @ h[6:8] + h[8]
-        XY = (u @ h.reshape(3, 3)[:2, :2].T + h[[2, 5]]) / w[:, None]
-        iw = 1.0 / w[:, None]
-        J[0::2, 0:2], J[0::2, 2:3], J[0::2, 3:6] = u * iw, iw, 0.0
-        J[1::2, 0:3], J[1::2, 3:5], J[1::2, 5:6] = 0.0, u * iw, iw
-        J[0::2, 6:8], J[0::2, 8:9] = -XY[:, :1] * u * iw, -XY[:, :1] * iw
-        J[1::2, 6:8], J[1::2, 8:9] = -XY[:, 1:] * u * iw, -XY[:, 1:] * iw
-        if not (np.all(np.isfinite(J)) and np.all(np.isfinite(XY))):
-            raise DegenerateGeometryError(
-                f"{name}: the adjustment sends a src point to infinity (w = 0); the "
-                "point geometry does not determine a projective transformation")
-        K[:9, :9] = J.T @ J
-        K[:9, 9] = K[9, :9] = h
-        dh = np.linalg.solve(K, np.r_[-(J.T @ (XY - U).reshape(-1)), 0.0])[:9]
-        h = h + dh
-        h /= np.linalg.norm(h)
-        if np.linalg.norm(dh) <= 1e-12:
-            break
-    return h
