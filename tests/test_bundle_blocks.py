@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from photolib import bundle as bd
-from photolib.bundle import _blocks
+from photolib.bundle import _blocks, _selinv
 from photolib.bundle._adjustment import _prepare, linearise
 from photolib.bundle._blocks import make_layout
 from tests.test_bundle import C, _block, _corners, _start
@@ -131,10 +131,15 @@ CASES = _cases()
 
 
 @pytest.mark.parametrize("case", list(CASES))
-@pytest.mark.parametrize("limit", [_blocks.DENSE_LIMIT, 0], ids=["dense", "sparse"])
+@pytest.mark.parametrize("limit", [_blocks.DENSE_LIMIT, 0, "banded"],
+                         ids=["dense", "sparse", "banded"])
 def test_statistics_agree_with_the_dense_inverse_of_the_full_normal_matrix(case, limit,
                                                                            monkeypatch):
-    monkeypatch.setattr(_blocks, "DENSE_LIMIT", limit)
+    if limit == "banded":  # the block-tridiagonal selected inverse (fixed datum) at any size
+        monkeypatch.setattr(_blocks, "BANDED_LIMIT", 0)
+        monkeypatch.setattr(_blocks, "MIN_GROUPS", 1)
+    else:
+        monkeypatch.setattr(_blocks, "DENSE_LIMIT", limit)
     xy, ji, pi, ext0, P0, kw = CASES[case]
     res = bd.bundle_adjustment(xy, ji, pi, ext0, P0, C, **kw)
     assert res.converged
@@ -164,3 +169,50 @@ def test_pairs_of_the_layout_cover_every_two_rays_of_a_point_once():
     assert np.all(lay.pair_a[lay.pid] == a) and np.all(lay.pair_b[lay.pid] == b)
     assert np.all(lay.pair_a[lay.diag_pair] == np.arange(lay.M))
     assert np.all(lay.pair_b[lay.diag_pair] == np.arange(lay.M))
+
+
+@pytest.mark.parametrize("calibrate", [(), ("c", "x0", "y0")], ids=["plain", "self-calibration"])
+def test_banded_selected_inverse_equals_the_dense_inverse(calibrate):
+    """The blocks of K⁻¹ by the block-tridiagonal recursion (:mod:`photolib.bundle._selinv`)
+    against the dense LAPACK inverse of the same reduced system, on a block long enough for
+    several camera groups (two strips of twenty images)."""
+    xy, ji, pi, ext, P = _block(strips=2, per=20, A1=0.0)
+    control = _corners(P)
+    ext0, P0 = _start(ext, P, control)
+    res = bd.bundle_adjustment(xy, ji, pi, ext0, P0, C, control=control, calibrate=calibrate)
+    prob = _prepare(xy, ji, pi, ext0, P0, C, 0.0, 0.0, None, control, "control", None, None,
+                    calibrate, 1e-10, 30)
+    lay = make_layout(prob.j, prob.i, len(prob.ext), prob.pts, prob.sig, prob.weighted,
+                      prob.calib, prob.datum, prob.sigma_image)
+    interior = dict(prob.interior) | res.interior()
+    v, A, Ap = linearise(prob, lay, res.exterior, res.points, interior)
+    system = _blocks.ReducedSystem(lay, _blocks.normals(lay, v, A, Ap, res.points))
+    groups = _selinv.camera_groups(lay.M, lay.pair_a, lay.pair_b)
+    assert groups.G >= 3  # the recursion runs over more than two groups
+    banded, dense = system.inverse_blocks("banded"), system.inverse_blocks("dense")
+    for name in ("pairs", "cam_global", "global_global"):
+        got, ref = getattr(banded, name), getattr(dense, name)
+        assert got.shape == ref.shape
+        if ref.size:
+            np.testing.assert_allclose(got, ref, rtol=0, atol=TOL * np.abs(ref).max())
+    # every image pair that shares a point lies within one group or two neighbouring ones
+    gap = np.abs(groups.group[lay.pair_a] - groups.group[lay.pair_b])
+    assert gap.max() <= 1
+
+
+def test_banded_route_refuses_a_free_network_and_falls_back_when_not_definite(monkeypatch):
+    xy, ji, pi, ext0, P0, kw = CASES["free network"]
+    res = bd.bundle_adjustment(xy, ji, pi, ext0, P0, C, **kw)
+    prob = _prepare(xy, ji, pi, ext0, P0, C, 0.0, 0.0, None, None, "free", None, None, (),
+                    1e-10, 30)
+    lay = make_layout(prob.j, prob.i, len(prob.ext), prob.pts, prob.sig, prob.weighted,
+                      prob.calib, prob.datum, prob.sigma_image)
+    v, A, Ap = linearise(prob, lay, res.exterior, res.points, dict(prob.interior))
+    system = _blocks.ReducedSystem(lay, _blocks.normals(lay, v, A, Ap, res.points))
+    with pytest.raises(ValueError, match="needs a fixed datum"):
+        system.inverse_blocks("banded")
+    # the automatic choice takes the dense route for a free network at any size
+    monkeypatch.setattr(_blocks, "BANDED_LIMIT", 0)
+    monkeypatch.setattr(_blocks, "MIN_GROUPS", 1)
+    auto, dense = system.inverse_blocks(), system.inverse_blocks("dense")
+    np.testing.assert_array_equal(auto.pairs, dense.pairs)

@@ -318,8 +318,8 @@ def _statistics(prob: _Problem, lay: Layout, ext, pts, interior) -> dict:
     except PointBehindCameraError as exc:
         raise ConvergenceError(f"bundle adjustment ended with {exc}") from None
     nrm = normals(lay, v, A, Ap, pts)
-    Kinv = ReducedSystem(lay, nrm).inverse()  # the covariance: once, after convergence
-    cov = covariances(lay, nrm, Kinv, A, Ap, prob.j)
+    inv = ReducedSystem(lay, nrm).inverse_blocks()  # the covariance: once, after convergence
+    cov = covariances(lay, nrm, inv, A, Ap, prob.j)
     qvv = np.clip(1.0 - cov.qhat, 0.0, 1.0)
     r = lay.r
     sigma0 = float(np.sqrt((np.sum(v**2) + _vtpv_control(lay, pts)) / r)) if r > 0 else \

@@ -46,10 +46,17 @@ import scipy.sparse as sps
 import scipy.sparse.linalg as spla
 
 from photolib.bundle._datum import DatumError, _check_point_blocks, _inner_constraints
+from photolib.bundle._selinv import InverseBlocks, banded_inverse_blocks, camera_groups
 
 #: the reduced camera system is solved densely (Cholesky / LU) up to this many unknowns
 #: (about 160 images with self-calibration), by a sparse LU above
 DENSE_LIMIT = 1000
+#: the blocks of K⁻¹ for the statistics come from the block-tridiagonal selected inverse
+#: (:mod:`~photolib.bundle._selinv`) above this many unknowns (fixed datum, at least 3
+#: camera groups), from the dense inverse below (and for a free network)
+BANDED_LIMIT = 1000
+#: fewest camera groups for which the banded route pays (fewer: the dense inverse)
+MIN_GROUPS = 3
 #: largest number of observation pairs whose 6 × 6 products are formed at once (memory)
 PAIR_CHUNK = 1 << 16
 
@@ -277,7 +284,7 @@ class ReducedSystem:
     ``σ_min ≤ 1e-12·σ_max`` raises :class:`DatumError`, else a dense LU is used."""
 
     def __init__(self, lay: Layout, nrm: Normals):
-        self.lay = lay
+        self.lay, self.nrm = lay, nrm
         rows, cols, vals = _entries(lay, nrm)
         ny = lay.ny
         diag = np.zeros(ny)
@@ -340,6 +347,41 @@ class ReducedSystem:
         """``K⁻¹ rhs`` (ny,)."""
         return self.scale * self._solve_s(self.scale * rhs)
 
+    def inverse_blocks(self, route: str | None = None) -> InverseBlocks:
+        """The blocks of K⁻¹ the statistics use (:class:`~photolib.bundle._selinv.InverseBlocks`).
+
+        ``route`` ``"banded"``: the block-tridiagonal selected inverse of
+        :mod:`~photolib.bundle._selinv` (fixed datum only; O(M·s²)); ``"dense"``: from
+        :meth:`inverse`; ``None`` chooses banded for ``ny > BANDED_LIMIT`` with at least
+        ``MIN_GROUPS`` camera groups and a fixed datum. A banded factorisation that finds K not positive
+        definite falls back to the dense route (which names a singular system)."""
+        lay, nrm = self.lay, self.nrm
+        M = lay.M
+        if route == "banded" and lay.d:
+            raise ValueError("the banded selected inverse needs a fixed datum (d = 0)")
+        cg = None
+        if route is None and lay.d == 0 and lay.ny > BANDED_LIMIT:
+            cg = camera_groups(M, lay.pair_a, lay.pair_b)
+            route = "banded" if cg.G >= MIN_GROUPS else "dense"
+        if route == "banded":
+            cg = cg or camera_groups(M, lay.pair_a, lay.pair_b)
+            sc, sg = self.scale[:6 * M].reshape(M, 6), self.scale[6 * M:]
+            sa, sb = sc[lay.pair_a][:, :, None], sc[lay.pair_b][:, None, :]
+            scg, sgg = sc[:, :, None] * sg, sg[:, None] * sg
+            try:
+                blk = banded_inverse_blocks(cg, nrm.Kc * sa * sb, nrm.Kg * scg, nrm.Kgg * sgg,
+                                            lay.pair_a, lay.pair_b)
+                return InverseBlocks(blk.pairs * sa * sb, blk.cam_global * scg,
+                                     blk.global_global * sgg)
+            except np.linalg.LinAlgError:
+                pass
+        Kinv = self.inverse()
+        r6 = np.arange(6)
+        pairs = Kinv[6 * lay.pair_a[:, None, None] + r6[:, None],
+                     6 * lay.pair_b[:, None, None] + r6]
+        return InverseBlocks(pairs, Kinv[:6 * M, 6 * M:].reshape(M, 6, lay.e),
+                             Kinv[6 * M:, 6 * M:])
+
     def inverse(self):
         """The dense ``K⁻¹`` (ny × ny): Q_yy and the blocks the statistics need. Always by
         LAPACK (Cholesky and ``dpotri``, or LU for a free network), also after a sparse
@@ -379,14 +421,12 @@ class Covariances:
     qhat: np.ndarray
 
 
-def covariances(lay: Layout, nrm: Normals, Kinv, A, Ap, j) -> Covariances:
-    """The cofactor blocks of the module's formulas from ``Kinv`` = K⁻¹ (ny × ny) and the
-    Jacobian blocks ``A`` (N, 2, 6 + k), ``Ap`` (N, 2, 3) of the observations (images j)."""
+def covariances(lay: Layout, nrm: Normals, inv: InverseBlocks, A, Ap, j) -> Covariances:
+    """The cofactor blocks of the module's formulas from the blocks ``inv`` of K⁻¹
+    (:meth:`ReducedSystem.inverse_blocks`) and the Jacobian blocks ``A`` (N, 2, 6 + k),
+    ``Ap`` (N, 2, 3) of the observations (images j)."""
     M, k = lay.M, lay.k
-    r6 = np.arange(6)
-    Kb = Kinv[6 * lay.pair_a[:, None, None] + r6[:, None], 6 * lay.pair_b[:, None, None] + r6]
-    Kcg = Kinv[:6 * M, 6 * M:].reshape(M, 6, lay.e)
-    Kgg = Kinv[6 * M:, 6 * M:]
+    Kb, Kcg, Kgg = inv.pairs, inv.cam_global, inv.global_global
     Yt = np.ascontiguousarray(nrm.Y.transpose(0, 2, 1))  # (Nm, 6, 3)
     Kbt = np.ascontiguousarray(Kb.transpose(0, 2, 1))
     Kcg_m = np.take(Kcg, lay.jm, axis=0)
@@ -398,13 +438,15 @@ def covariances(lay: Layout, nrm: Normals, Kinv, A, Ap, j) -> Covariances:
     Qgp = -(_group_sum(lay.by_point, Kcg_m.transpose(0, 2, 1) @ Yt)
             + Kgg @ nrm.Z.transpose(0, 2, 1))  # (Pf, e, 3)
     Qpp = nrm.Ninv - _group_sum(lay.by_point, nrm.Y @ C) - nrm.Z @ Qgp
-    cols = lay.cols
-    Qsub = Kinv[cols[:, :, None], cols[:, None, :]]  # (M, 6 + k, 6 + k)
+    Qcam = Kb[lay.diag_pair]
+    Qsub = np.empty((M, 6 + k, 6 + k))  # image a's own unknowns and the interior parameters
+    Qsub[:, :6, :6] = Qcam
+    Qsub[:, :6, 6:] = Kcg[:, :, :k]
+    Qsub[:, 6:, :6] = Kcg[:, :, :k].transpose(0, 2, 1)
+    Qsub[:, 6:, 6:] = Kgg[:k, :k]
     qhat = np.sum((A @ np.take(Qsub, j, axis=0)) * A, axis=2)
     mo = lay.mo
     Qyp = np.concatenate([C, np.take(Qgp[:, :k], lay.ps, axis=0)], axis=1)  # (Nm, 6 + k, 3)
     Am, Apm = A[mo], Ap[mo]
     qhat[mo] += np.sum((2.0 * (Am @ Qyp) + Apm @ np.take(Qpp, lay.ps, axis=0)) * Apm, axis=2)
-    Qcam = Kinv[6 * np.arange(M)[:, None, None] + r6[:, None], 6 * np.arange(M)[:, None, None]
-                + r6]
-    return Covariances(Qcam, Kinv[6 * M:6 * M + k, 6 * M:6 * M + k], Qpp, C, qhat)
+    return Covariances(Qcam, Kgg[:k, :k].copy(), Qpp, C, qhat)
