@@ -187,25 +187,61 @@ def _solve_ceres(b, state):
     return ext, P, f"{cs.num_successful_steps + cs.num_unsuccessful_steps} it"
 
 
+def _stage_clock():
+    """CPU seconds spent in photolib's iterations, in its statistics stage and, within the
+    statistics, in the blocks of K⁻¹ and the covariances (wrappers around the stage
+    functions of ``photolib.bundle._adjustment``; their overhead is a few calls per solve)."""
+    import photolib.bundle._adjustment as ad
+
+    spent = {"iterate": 0.0, "statistics": 0.0, "inverse+covariances": 0.0}
+
+    def timed(fn, key):
+        def run(*args, **kw):
+            t = time.process_time()
+            try:
+                return fn(*args, **kw)
+            finally:
+                spent[key] += time.process_time() - t
+        return run
+
+    ad._iterate = timed(ad._iterate, "iterate")
+    ad._statistics = timed(ad._statistics, "statistics")
+    ad.covariances = timed(ad.covariances, "inverse+covariances")
+    inverse_blocks = ad.ReducedSystem.inverse_blocks
+    ad.ReducedSystem.inverse_blocks = lambda self, *a: timed(
+        inverse_blocks, "inverse+covariances")(self, *a)
+    return spent
+
+
 def child(solver: str, n_images: int, repeat: int = REPEAT) -> dict:
     """One solver on one block in this process: best solve time (s), peak RSS (bytes),
-    RMS (mm)."""
+    RMS (mm); for photolib also the statistics stage and its inverse + covariances work in
+    units of one iteration (of the best solve)."""
     b = make_block(n_images)
     warm = make_block(10, seed=1)  # imports and first calls, untimed
     _solve_ceres(warm, None) if solver == "ceres" else _solve_photolib(warm)
     del warm
+    spent = _stage_clock() if solver == "photolib" else None
+    stages = {}
     wall, cpu = [], []
     for _ in range(repeat):
         # BA changes the reconstruction: a fresh one each time, built outside the timing
         state = _ceres_problem(b) if solver == "ceres" else None
         t, c = time.perf_counter(), time.process_time()
+        if spent is not None:
+            spent.update(dict.fromkeys(spent, 0.0))
         ext, P, note = _solve_ceres(b, state) if solver == "ceres" else _solve_photolib(b)
         wall.append(time.perf_counter() - t)
         cpu.append(time.process_time() - c)
+        if spent is not None and cpu[-1] == min(cpu):
+            per_iteration = spent["iterate"] / int(note.split()[0])
+            stages = {"statistics_it": spent["statistics"] / per_iteration,
+                      "extra_it": spent["inverse+covariances"] / per_iteration}
         del state
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
     return dict(solver=solver, images=n_images, points=len(b["P0"]), observations=len(b["xy"]),
-                time=min(cpu), wall=min(wall), peak=peak, rms=_rms(b, ext, P), note=note)
+                time=min(cpu), wall=min(wall), peak=peak, rms=_rms(b, ext, P), note=note,
+                **stages)
 
 
 def _run_child(solver, n_images, repeat=REPEAT):
@@ -248,11 +284,14 @@ def run(images=(49, 100, 200), scaling=(50, 100, 200, 400), repeat=REPEAT) -> in
     rows = [_run_child("photolib", n, repeat) for n in scaling]
     print(f"\nphotolib scaling (target: per-observation time and memory at {scaling[-1]} images "
           f"≤ {LINEAR_SLACK}× those at {scaling[0]})")
-    print(f"{'images':>6} {'obs':>7} | {'time':>7} {'µs/obs':>7} | {'peak':>11} {'KiB/obs':>8}")
+    print(f"{'images':>6} {'obs':>7} | {'time':>7} {'µs/obs':>7} | {'peak':>11} {'KiB/obs':>8} | "
+          "statistics in iterations: whole stage (with its linearisation at the final "
+          "estimate) / K⁻¹ blocks + covariances")
     for row in rows:
         print(f"{row['images']:6d} {row['observations']:7d} | {row['time']:6.2f}s "
               f"{row['time'] / row['observations'] * 1e6:7.1f} | {_mib(row['peak'])} "
-              f"{row['peak'] / row['observations'] / 1024:8.2f}")
+              f"{row['peak'] / row['observations'] / 1024:8.2f} | "
+              f"{row['statistics_it']:.2f} / {row['extra_it']:.2f}")
     first, last = rows[0], rows[-1]
     for key in ("time", "peak"):
         growth = (last[key] / last["observations"]) / (first[key] / first["observations"])

@@ -116,7 +116,8 @@ class Layout:
     by_cam_free: object  # indicator (M × Nm)
     by_pair: object  # indicator (pairs × T), CSC: sliced by chunks of pairs
     q1_target: object  # indicator (Nm × T), CSC: q1 of every pair
-    off_target: object  # indicator (Nm × T), CSC: q2 of the off-diagonal pairs
+    off: np.ndarray  # (T_off,) the pairs with q1 ≠ q2
+    off_target: object  # indicator (Nm × T_off), CSC: q2 of the off-diagonal pairs
     diag_pair: np.ndarray  # (M,) pid of (a, a)
 
     @property
@@ -181,7 +182,7 @@ def make_layout(j, i, M, pts, sig, weighted, calib, datum, sigma_image) -> Layou
         by_image=_indicator(j, M), by_point=_indicator(ps, len(free)),
         by_cam_free=_indicator(jm, M), by_pair=_indicator(pid, len(ukeys)).tocsc(),
         q1_target=_indicator(q1, len(mo)).tocsc(),
-        off_target=sps.csc_matrix((np.ones(len(off)), (q2[off], off)), shape=(len(mo), len(q1))),
+        off=off, off_target=_indicator(q2[off], len(mo)).tocsc(),
         diag_pair=np.searchsorted(ukeys, np.arange(M) * (M + 1)))
 
 
@@ -431,10 +432,13 @@ def covariances(lay: Layout, nrm: Normals, inv: InverseBlocks, A, Ap, j) -> Cova
     Kbt = np.ascontiguousarray(Kb.transpose(0, 2, 1))
     Kcg_m = np.take(Kcg, lay.jm, axis=0)
     C = -(Kcg_m @ np.take(nrm.Z, lay.ps, axis=0).transpose(0, 2, 1))
-    for c in _chunks(len(lay.q1)):
-        B, Bt = np.take(Kb, lay.pid[c], axis=0), np.take(Kbt, lay.pid[c], axis=0)
+    for c in _chunks(len(lay.q1)):  # C_{q1} −= K⁻¹_{j(q1) j(q2)} Y_{q2}ᵀ over all pairs …
+        B = np.take(Kb, lay.pid[c], axis=0)
         C -= _group_sum(lay.q1_target[:, c], B @ np.take(Yt, lay.q2[c], axis=0))
-        C -= _group_sum(lay.off_target[:, c], Bt @ np.take(Yt, lay.q1[c], axis=0))
+    for c in _chunks(len(lay.off)):  # … and C_{q2} −= (K⁻¹_{j(q1) j(q2)})ᵀ Y_{q1}ᵀ, q1 ≠ q2
+        pairs = lay.off[c]
+        Bt = np.take(Kbt, lay.pid[pairs], axis=0)
+        C -= _group_sum(lay.off_target[:, c], Bt @ np.take(Yt, lay.q1[pairs], axis=0))
     Qgp = -(_group_sum(lay.by_point, Kcg_m.transpose(0, 2, 1) @ Yt)
             + Kgg @ nrm.Z.transpose(0, 2, 1))  # (Pf, e, 3)
     Qpp = nrm.Ninv - _group_sum(lay.by_point, nrm.Y @ C) - nrm.Z @ Qgp
