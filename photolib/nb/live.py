@@ -39,6 +39,8 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
+from photolib.nb._table import _Controls
+
 __all__ = ["CSS_DPI", "PIXEL_RATIO", "Explorer", "LiveFigure", "Panel", "align_sliders", "finished",
            "label_width", "png_rgb", "px", "slider", "slider_track_px"]
 
@@ -280,7 +282,7 @@ def align_sliders(controls) -> None:
         c.layout.width = f"{label + track:g}px"
 
 
-class Explorer:
+class Explorer(_Controls):
     """Base of the course's widgets: sliders → :meth:`update` → figure and text.
 
     Subclasses set :attr:`title`, build ``self.controls`` (name → widget) and
@@ -306,16 +308,7 @@ class Explorer:
         row = widgets.HBox([self.live.output, self.html],
                            layout=widgets.Layout(flex_flow="row wrap"))
         self.widget = Panel([box, row], title=self.title)
-        for control in self.controls.values():
-            control.observe(self._on_change, names="value")
-        self.update()
-
-    def values(self) -> dict:
-        """The current control values, by name."""
-        return {name: c.value for name, c in self.controls.items()}
-
-    def _on_change(self, change) -> None:
-        self.update()
+        self._connect()
 
     def set(self, **values) -> None:
         """Set controls without triggering one redraw per control, then redraw once."""
