@@ -18,7 +18,7 @@ import functools
 import cv2
 import numpy as np
 import pytest
-from scipy import ndimage
+from scipy import ndimage, signal
 
 from photolib.data import yellowtargets
 from photolib.measurement import (
@@ -26,6 +26,7 @@ from photolib.measurement import (
     edge_points,
     fit_line_tls,
     measure_targets,
+    noise_autocorrelation,
     weighted_centroid,
     yellowness,
 )
@@ -161,6 +162,76 @@ def test_weighted_centroid_precision_is_plausible(k):
     res = v - A @ np.linalg.lstsq(A, v, rcond=None)[0]
     rms = np.sqrt(res @ res / (len(v) - 6))
     assert rms <= tg.sigma_g <= 1.25 * rms
+
+
+@pytest.mark.parametrize("k", range(4))
+def test_interior_noise_correlation_and_the_centroid_factor(k):
+    """ρ of the interior noise by SciPy's ``correlate2d`` of this test's own trend residuals
+    (normalised by the correlated mask: the pairs inside the interior), and the factor
+    ``noise_factor`` = √(Σ ρ over lags ≤ 1): neighbours correlate by about 1/2 (demosaicing
+    and JPEG), so the independent-noise σ of the centroid is about half the true one."""
+    tg, mask, _ = _targets_with_masks()[k]
+    interior = cv2.erode(mask.astype(np.uint8), CROSS, iterations=4).astype(bool)
+    y = _yellow()
+    r_i, c_i = np.nonzero(interior)
+    A = np.column_stack([np.ones_like(c_i), c_i, r_i, c_i**2, c_i * r_i, r_i**2]).astype(float)
+    e = np.zeros(y.shape)
+    e[r_i, c_i] = y[r_i, c_i] - A @ np.linalg.lstsq(A, y[r_i, c_i], rcond=None)[0]
+    r0, r1, c0, c1 = r_i.min(), r_i.max() + 1, c_i.min(), c_i.max() + 1
+    ew, mw = e[r0:r1, c0:c1], interior[r0:r1, c0:c1].astype(float)
+    sums = signal.correlate2d(ew, ew, mode="full")
+    pairs = signal.correlate2d(mw, mw, mode="full")
+    cr, cc = np.array(sums.shape) // 2
+    window = (slice(cr - 1, cr + 2), slice(cc - 1, cc + 2))
+    ref = (sums[window] / pairs[window]) / (sums[cr, cc] / pairs[cr, cc])
+    rho = noise_autocorrelation(y, interior)
+    assert np.allclose(rho, ref, rtol=0, atol=1e-10)
+    assert tg.noise_factor == pytest.approx(np.sqrt(ref.sum()), rel=1e-10)
+    assert 0.35 < rho[1, 2] < 0.7 and 0.35 < rho[2, 1] < 0.7  # the neighbours
+    assert 1.6 < tg.noise_factor < 2.5
+
+
+def test_centroid_sigma_under_correlated_noise_grows_by_the_noise_factor():
+    """Monte Carlo: a flat square target (weights g − t) with white noise boxed 2 × 2
+    (ρ = 1/2 to a side, 1/4 to a corner: Σρ = 4 over lags ≤ 1). The sample σ of the weighted
+    centroid over 300 draws is ``weighted_centroid``'s independent-noise σ times √(Σ ρ) of
+    ``noise_autocorrelation`` on one draw — to 15 % (σ of a sample σ over 300 draws: 4 %)."""
+    rng = np.random.default_rng(2)
+    size, lo, hi, sigma = 48, 14, 34, 3.0
+    base = np.zeros((size, size))
+    base[lo:hi, lo:hi] = 100.0
+    inside = np.zeros((size, size), bool)
+    inside[lo + 2:hi - 2, lo + 2:hi - 2] = True
+
+    def draw():
+        w = rng.normal(0.0, 1.0, (size + 1, size + 1))
+        boxed = (w[:-1, :-1] + w[1:, :-1] + w[:-1, 1:] + w[1:, 1:]) / 2  # σ 1, correlated
+        return np.where(base > 0, base + sigma * boxed, 0.0)
+
+    first = draw()
+    rho = noise_autocorrelation(first, inside)
+    assert rho.sum() == pytest.approx(4.0, abs=0.6)
+    white_sigma = weighted_centroid(first, 0.0, sigma).std
+    samples = np.array([weighted_centroid(draw(), 0.0).colrow for _ in range(300)])
+    np.testing.assert_allclose(samples.std(axis=0, ddof=1),
+                               white_sigma * np.sqrt(rho.sum()), rtol=0.15)
+    # and independent-noise σ alone would be off by the factor 2
+    assert np.all(samples.std(axis=0, ddof=1) > 1.5 * white_sigma)
+
+
+def test_noise_autocorrelation_refuses_bad_input():
+    with pytest.raises(ValueError, match=r"image must be 2-D and mask of its shape"):
+        noise_autocorrelation(np.zeros((4, 4)), np.ones((3, 3), bool))
+    with pytest.raises(ValueError, match="the mask has 4 pixels"):
+        noise_autocorrelation(np.zeros((4, 4)), np.eye(4, dtype=bool))
+    with pytest.raises(ValueError, match="max_lag must be ≥ 0, got -1"):
+        noise_autocorrelation(np.zeros((4, 4)), np.ones((4, 4), bool), max_lag=-1)
+    with pytest.raises(ValueError, match="no noise to measure"):
+        noise_autocorrelation(np.ones((6, 6)), np.ones((6, 6), bool))
+    bad = np.zeros((6, 6))
+    bad[2, 3] = np.nan
+    with pytest.raises(ValueError, match="image contains a non-finite value nan"):
+        noise_autocorrelation(bad, np.ones((6, 6), bool))
 
 
 def _side_points(tg, i, edges, band=3.0):

@@ -29,7 +29,13 @@ from photolib.measurement._log import (
     log_kernel_1d,
     zero_crossings,
 )
-from photolib.measurement._real import RealTarget, fit_line_tls, measure_targets, yellowness
+from photolib.measurement._real import (
+    RealTarget,
+    fit_line_tls,
+    measure_targets,
+    noise_autocorrelation,
+    yellowness,
+)
 from photolib.measurement._targets import (
     Centroid,
     MomentThreshold,
@@ -39,5 +45,6 @@ from photolib.measurement._targets import (
 
 __all__ = ["Centroid", "CircleFit", "EdgePoints", "MomentThreshold", "RealTarget", "edge_points",
            "fit_circle", "fit_line_tls", "gaussian_radius", "laplacian_of_gaussian", "log_filter",
-           "log_kernel_1d", "measure_targets", "moment_threshold", "sobel_gradient",
+           "log_kernel_1d", "measure_targets", "moment_threshold", "noise_autocorrelation",
+           "sobel_gradient",
            "weighted_centroid", "yellowness", "zero_crossings"]

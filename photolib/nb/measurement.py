@@ -473,7 +473,10 @@ def target_report(index: int) -> dict:
             f"binary centroid: ({tg.binary[0]:.2f}, {tg.binary[1]:.2f})<br>"
             f"weighted centroid: ({tg.weighted[0]:.2f}, {tg.weighted[1]:.2f}) "
             f"± ({tg.weighted_std[0]:.3f}, {tg.weighted_std[1]:.3f}) px "
-            f"(σ_g = {tg.sigma_g:.1f})<br>"
+            f"(σ_g = {tg.sigma_g:.1f}, independent noise); "
+            f"× {tg.noise_factor:.1f} for the correlated noise: "
+            f"± ({tg.weighted_std[0] * tg.noise_factor:.3f}, "
+            f"{tg.weighted_std[1] * tg.noise_factor:.3f}) px<br>"
             f"diagonal centre: ({tg.centre[0]:.2f}, {tg.centre[1]:.2f})<br>"
             f"side fits σ0: {', '.join(f'{s:.2f}' for s in tg.side_sigma)} px "
             f"({tg.side_points} edge points)</p>")
