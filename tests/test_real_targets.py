@@ -336,13 +336,14 @@ def test_yellowness_and_measure_targets_refuse_nan_naming_it():
 def test_measure_targets_on_a_grey_image():
     """A noisy grey image (independent noise per channel): no blob of min_area pixels, and
     the message names the threshold, min_area and the largest blob. A perfectly flat grey
-    image has a constant yellowness: moment_threshold's 'constant' error, naming the value."""
+    image has a constant yellowness: 'no target', with moment_threshold's 'constant' error naming the value."""
     rng = np.random.default_rng(3)
     grey = np.clip(128 + rng.normal(0, 3, (120, 160, 3)), 0, 255).astype(np.uint8)
     with pytest.raises(ValueError, match=r"no target: .*threshold -?\d+\.\d.*min_area = 1000 "
                                          r"pixels \(largest \d+\)"):
         measure_targets(grey)
-    with pytest.raises(ValueError, match=r"constant \(all grey values 0\)"):
+    with pytest.raises(ValueError, match=r"no target: the yellowness min\(R, G\) − B has one "
+                                         r"value .*constant \(all grey values 0\)"):
         measure_targets(np.full((50, 60, 3), 128, np.uint8))
 
 

@@ -230,3 +230,15 @@ def test_flat_template_is_refused_by_both():
         pl.least_squares_matching(f, g, (30, 30))
     with pytest.raises(ValueError, match="the template is flat"):
         CODE["lsm"](f, g, (30, 30))
+
+
+@pytest.mark.parametrize("start", [(3, 30), (30, 3), (57, 30), (30, 57)])
+def test_a_patch_outside_the_search_image_is_refused_by_both(start):
+    """A start that puts the 21 × 21 template beyond an edge of the 61 × 61 search image:
+    photolib names the start; the teaching lsm says the patch is not inside (without the check
+    NumPy's negative indices wrapped around to the opposite edge and matched garbage)."""
+    f, g, _ = _case(*CASES[0])
+    with pytest.raises(pl.StartOutsideImageError, match="does not lie inside the search image"):
+        pl.least_squares_matching(f, g, start)
+    with pytest.raises(ValueError, match=r"iteration 1: the patch .* is not inside the search"):
+        CODE["lsm"](f, g, start)

@@ -173,7 +173,12 @@ def measure_targets(rgb, *, min_area: int = 1000, threshold: float | None = None
 
     y = yellowness(rgb)
     if threshold is None:
-        m = moment_threshold(y)
+        try:
+            m = moment_threshold(y)
+        except ValueError as exc:  # e.g. a grey photograph: yellowness 0 everywhere
+            raise ValueError(f"no target: the yellowness min(R, G) − B has one value over the "
+                             f"whole image, nothing is yellower than its surroundings ({exc})"
+                             ) from None
         threshold = 0.5 * (m.h1 + m.h2)
     t = float(threshold)
     labels, n = ndimage.label(y > t)
