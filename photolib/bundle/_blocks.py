@@ -24,8 +24,12 @@ The points are eliminated point by point (Schur complement) with ``Y_n = V_p^{-1
 
 solved by a dense Cholesky (LU for the indefinite system of a free network) while it is
 small and by a sparse LU (SuperLU, symmetric ordering, no pivoting when it is positive
-definite) when it is not. With Q = K⁻¹ the covariance blocks follow from the same structure:
-the camera–point cross covariance per observation and the point covariance per point,
+definite) when it is not. Of Q = K⁻¹ the statistics need only the 6 × 6 blocks of the image
+pairs that share a point, the image–global and the global blocks: from the dense inverse
+while K is small (and for a free network), else from a block-tridiagonal selected inverse
+(:mod:`~photolib.bundle._selinv`, no matrix of size ny × ny). The covariance blocks follow
+from the same structure: the camera–point cross covariance per observation and the point
+covariance per point,
 
 .. math::
     Q_{a p} = -\sum_{m \in p} Q_{a, j(m)} Y_m^T - Q_{a g} Z_p^T,\qquad
@@ -127,13 +131,6 @@ class Layout:
     @property
     def ny(self) -> int:
         return 6 * self.M + self.k + self.d
-
-    @property
-    def cols(self) -> np.ndarray:
-        """(M, 6 + k) columns of y of image a's own unknowns and the interior parameters."""
-        M, k = self.M, self.k
-        return np.column_stack([6 * np.arange(M)[:, None] + np.arange(6),
-                                np.broadcast_to(6 * M + np.arange(k), (M, k))]).astype(int)
 
 
 def make_layout(j, i, M, pts, sig, weighted, calib, datum, sigma_image) -> Layout:
@@ -354,8 +351,9 @@ class ReducedSystem:
         ``route`` ``"banded"``: the block-tridiagonal selected inverse of
         :mod:`~photolib.bundle._selinv` (fixed datum only; O(M·s²)); ``"dense"``: from
         :meth:`inverse`; ``None`` chooses banded for ``ny > BANDED_LIMIT`` with at least
-        ``MIN_GROUPS`` camera groups and a fixed datum. A banded factorisation that finds K not positive
-        definite falls back to the dense route (which names a singular system)."""
+        ``MIN_GROUPS`` camera groups and a fixed datum. A banded factorisation that finds K
+        not positive definite falls back to the dense route (which names a singular
+        system)."""
         lay, nrm = self.lay, self.nrm
         M = lay.M
         if route == "banded" and lay.d:
@@ -384,7 +382,7 @@ class ReducedSystem:
                              Kinv[6 * M:, 6 * M:])
 
     def inverse(self):
-        """The dense ``K⁻¹`` (ny × ny): Q_yy and the blocks the statistics need. Always by
+        """The dense ``K⁻¹`` (ny × ny), for :meth:`inverse_blocks`' dense route. Always by
         LAPACK (Cholesky and ``dpotri``, or LU for a free network), also after a sparse
         solve: its blocked inverse costs less than ny sparse triangular solves."""
         ny = self.lay.ny
