@@ -119,9 +119,8 @@ class Layout:
     by_point: object  # indicator (Pf × Nm)
     by_cam_free: object  # indicator (M × Nm)
     by_pair: object  # indicator (pairs × T), CSC: sliced by chunks of pairs
-    q1_target: object  # indicator (Nm × T), CSC: q1 of every pair
-    off: np.ndarray  # (T_off,) the pairs with q1 ≠ q2
-    off_target: object  # indicator (Nm × T_off), CSC: q2 of the off-diagonal pairs
+    by_q1: np.ndarray  # (T,) the pairs in the order of q1 (non-decreasing)
+    by_q2: np.ndarray  # (T_off,) the pairs with q1 ≠ q2 in the order of q2
     diag_pair: np.ndarray  # (M,) pid of (a, a)
 
     @property
@@ -169,6 +168,8 @@ def make_layout(j, i, M, pts, sig, weighted, calib, datum, sigma_image) -> Layou
     pid = pid[:len(key)]
     order = np.argsort(pid, kind="stable")
     q1, q2, pid = q1[order], q2[order], pid[order]
+    by_q1 = np.empty_like(order)
+    by_q1[order] = np.arange(len(order))  # the enumeration above was q1-major
     off = np.flatnonzero(q1 != q2)
     return Layout(
         M=M, P=P, k=k, d=d, calib=calib, free=free, slot=slot, fixc=fixc, wts=wts,
@@ -178,9 +179,20 @@ def make_layout(j, i, M, pts, sig, weighted, calib, datum, sigma_image) -> Layou
         q2=q2, pid=pid, pair_a=ukeys // M, pair_b=ukeys % M,
         by_image=_indicator(j, M), by_point=_indicator(ps, len(free)),
         by_cam_free=_indicator(jm, M), by_pair=_indicator(pid, len(ukeys)).tocsc(),
-        q1_target=_indicator(q1, len(mo)).tocsc(),
-        off=off, off_target=_indicator(q2[off], len(mo)).tocsc(),
+        by_q1=by_q1, by_q2=off[np.argsort(q2[off], kind="stable")],
         diag_pair=np.searchsorted(ukeys, np.arange(M) * (M + 1)))
+
+
+def _subtract_sorted(out, targets, values):
+    """``out[targets[k]] −= values[k]`` for non-decreasing ``targets``: a sum by group into
+    the contiguous range of ``out`` they cover (work O(len(targets)), not O(len(out)))."""
+    if not len(targets):
+        return
+    lo, hi = int(targets[0]), int(targets[-1]) + 1
+    counts = np.bincount(targets - lo, minlength=hi - lo)
+    S = sps.csr_matrix((np.ones(len(targets)), np.arange(len(targets)),
+                        np.r_[0, np.cumsum(counts)]), shape=(hi - lo, len(targets)))
+    out[lo:hi] -= _group_sum(S, values)
 
 
 def _chunks(n):
@@ -430,13 +442,14 @@ def covariances(lay: Layout, nrm: Normals, inv: InverseBlocks, A, Ap, j) -> Cova
     Kbt = np.ascontiguousarray(Kb.transpose(0, 2, 1))
     Kcg_m = np.take(Kcg, lay.jm, axis=0)
     C = -(Kcg_m @ np.take(nrm.Z, lay.ps, axis=0).transpose(0, 2, 1))
-    for c in _chunks(len(lay.q1)):  # C_{q1} −= K⁻¹_{j(q1) j(q2)} Y_{q2}ᵀ over all pairs …
-        B = np.take(Kb, lay.pid[c], axis=0)
-        C -= _group_sum(lay.q1_target[:, c], B @ np.take(Yt, lay.q2[c], axis=0))
-    for c in _chunks(len(lay.off)):  # … and C_{q2} −= (K⁻¹_{j(q1) j(q2)})ᵀ Y_{q1}ᵀ, q1 ≠ q2
-        pairs = lay.off[c]
+    for c in _chunks(len(lay.by_q1)):  # C_{q1} −= K⁻¹_{j(q1) j(q2)} Y_{q2}ᵀ over all pairs …
+        pairs = lay.by_q1[c]
+        B = np.take(Kb, lay.pid[pairs], axis=0)
+        _subtract_sorted(C, lay.q1[pairs], B @ np.take(Yt, lay.q2[pairs], axis=0))
+    for c in _chunks(len(lay.by_q2)):  # … and C_{q2} −= (K⁻¹_{j(q1) j(q2)})ᵀ Y_{q1}ᵀ, q1 ≠ q2
+        pairs = lay.by_q2[c]
         Bt = np.take(Kbt, lay.pid[pairs], axis=0)
-        C -= _group_sum(lay.off_target[:, c], Bt @ np.take(Yt, lay.q1[pairs], axis=0))
+        _subtract_sorted(C, lay.q2[pairs], Bt @ np.take(Yt, lay.q1[pairs], axis=0))
     Qgp = -(_group_sum(lay.by_point, Kcg_m.transpose(0, 2, 1) @ Yt)
             + Kgg @ nrm.Z.transpose(0, 2, 1))  # (Pf, e, 3)
     Qpp = nrm.Ninv - _group_sum(lay.by_point, nrm.Y @ C) - nrm.Z @ Qgp
