@@ -131,12 +131,15 @@ CASES = _cases()
 
 
 @pytest.mark.parametrize("case", list(CASES))
-@pytest.mark.parametrize("limit", [_blocks.DENSE_LIMIT, 0, "banded"],
-                         ids=["dense", "sparse", "banded"])
+@pytest.mark.parametrize("limit", [_blocks.DENSE_LIMIT, 0, "banded", "banded-solve"],
+                         ids=["dense", "sparse", "banded", "banded-solve"])
 def test_statistics_agree_with_the_dense_inverse_of_the_full_normal_matrix(case, limit,
                                                                            monkeypatch):
     if limit == "banded":  # the block-tridiagonal selected inverse (fixed datum) at any size
         monkeypatch.setattr(_blocks, "BANDED_LIMIT", 0)
+        monkeypatch.setattr(_blocks, "MIN_GROUPS", 1)
+    elif limit == "banded-solve":  # ... and its Cholesky as the solver of every iteration
+        monkeypatch.setattr(_blocks, "DENSE_LIMIT", 0)
         monkeypatch.setattr(_blocks, "MIN_GROUPS", 1)
     else:
         monkeypatch.setattr(_blocks, "DENSE_LIMIT", limit)
@@ -154,6 +157,11 @@ def test_sparse_and_dense_reduced_solvers_give_the_same_adjustment(monkeypatch):
     np.testing.assert_allclose(sparse.exterior, dense.exterior, rtol=0, atol=1e-9)
     np.testing.assert_allclose(sparse.points, dense.points, rtol=0, atol=1e-9)
     assert sparse.iterations == dense.iterations
+    monkeypatch.setattr(_blocks, "MIN_GROUPS", 1)  # the block-tridiagonal Cholesky instead
+    banded = bd.bundle_adjustment(xy, ji, pi, ext0, P0, C, **kw)
+    np.testing.assert_allclose(banded.exterior, dense.exterior, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(banded.points, dense.points, rtol=0, atol=1e-9)
+    assert banded.iterations == dense.iterations
 
 
 def test_pairs_of_the_layout_cover_every_two_rays_of_a_point_once():
@@ -190,6 +198,14 @@ def test_banded_selected_inverse_equals_the_dense_inverse(calibrate):
     groups = _selinv.camera_groups(lay.M, lay.pair_a, lay.pair_b)
     assert groups.G >= 3  # the recursion runs over more than two groups
     banded, dense = system.inverse_blocks("banded"), system.inverse_blocks("dense")
+    # the same factorisation solves K_s x = b (the solver of the iterations above
+    # DENSE_LIMIT): backward error at rounding level (c and Z0 make K ill-conditioned, so
+    # the forward error of any two solvers is larger)
+    rhs = np.random.default_rng(1).standard_normal((lay.ny, 3))
+    x = system._banded(groups).solve(rhs)
+    backward = np.linalg.norm(system.Ks @ x - rhs, axis=0) / (
+        np.linalg.norm(system.Ks) * np.linalg.norm(x, axis=0))
+    assert np.all(backward < 1e-14)
     for name in ("pairs", "cam_global", "global_global"):
         got, ref = getattr(banded, name), getattr(dense, name)
         assert got.shape == ref.shape

@@ -50,10 +50,12 @@ import scipy.sparse as sps
 import scipy.sparse.linalg as spla
 
 from photolib.bundle._datum import DatumError, _check_point_blocks, _inner_constraints
-from photolib.bundle._selinv import InverseBlocks, banded_inverse_blocks, camera_groups
+from photolib.bundle._selinv import BorderedCholesky, InverseBlocks, camera_groups
 
 #: the reduced camera system is solved densely (Cholesky / LU) up to this many unknowns
-#: (about 160 images with self-calibration), by a sparse LU above
+#: (about 160 images with self-calibration), above by the block-tridiagonal Cholesky of
+#: :mod:`~photolib.bundle._selinv` (fixed datum, at least ``MIN_GROUPS`` camera groups) or
+#: a sparse LU (free network, or a block too compact for groups)
 DENSE_LIMIT = 1000
 #: the blocks of K⁻¹ for the statistics come from the block-tridiagonal selected inverse
 #: (:mod:`~photolib.bundle._selinv`) above this many unknowns (fixed datum, at least 3
@@ -287,7 +289,10 @@ def _entries(lay: Layout, nrm: Normals):
 class ReducedSystem:
     """The reduced camera system K, Jacobi-scaled (``K_s = D K D``, ``D = |diag K|^{-1/2}``)
     and factorised once: dense Cholesky (LU if indefinite, free network) for
-    ``ny ≤ DENSE_LIMIT``, else SuperLU with a symmetric (minimum-degree) ordering.
+    ``ny ≤ DENSE_LIMIT``; above, for a fixed datum, the sparse Cholesky of
+    :class:`~photolib.bundle._selinv.BorderedCholesky` (cameras in block-tridiagonal groups,
+    the interior parameters as a border) when the block has at least ``MIN_GROUPS`` camera
+    groups, else SuperLU with a symmetric (minimum-degree) ordering.
 
     The factorisation is accepted if two inverse iterations on random vectors put the
     condition ``‖K_s‖_F·‖K_s⁻¹‖`` below 1e10; otherwise the singular values of K_s decide:
@@ -321,7 +326,26 @@ class ReducedSystem:
             pass
         self._check_singular()
 
+    def _scaled_blocks(self):
+        """``Kc`` (pairs, 6, 6), ``Kg`` (M, 6, e), ``Kgg`` (e, e) of K_s and the scales
+        ``(sa, sb, scg, sgg)`` that multiply them."""
+        lay, nrm, M = self.lay, self.nrm, self.lay.M
+        sc, sg = self.scale[:6 * M].reshape(M, 6), self.scale[6 * M:]
+        sa, sb = sc[lay.pair_a][:, :, None], sc[lay.pair_b][:, None, :]
+        scg, sgg = sc[:, :, None] * sg, sg[:, None] * sg
+        return (nrm.Kc * sa * sb, nrm.Kg * scg, nrm.Kgg * sgg), (sa, sb, scg, sgg)
+
+    def _banded(self, cg) -> BorderedCholesky:
+        (Kc, Kg, Kgg), _ = self._scaled_blocks()
+        return BorderedCholesky(cg, Kc, Kg, Kgg, self.lay.pair_a, self.lay.pair_b)
+
     def _factor(self):
+        lay = self.lay
+        if self.sparse and lay.d == 0:
+            cg = camera_groups(lay.M, lay.pair_a, lay.pair_b)
+            if cg.G >= MIN_GROUPS:
+                self.kind, self.fac = "banded", self._banded(cg)
+                return
         if self.sparse:
             pivot = 0.0 if self.lay.d == 0 else 1.0
             self.kind = "splu"
@@ -335,6 +359,8 @@ class ReducedSystem:
             self.fac = sla.lu_factor(self.Ks, check_finite=False)
 
     def _solve_s(self, b):
+        if self.kind == "banded":
+            return self.fac.solve(b)
         if self.kind == "splu":
             return self.fac.solve(b)
         if self.kind == "cholesky":
@@ -366,22 +392,22 @@ class ReducedSystem:
         ``MIN_GROUPS`` camera groups and a fixed datum. A banded factorisation that finds K
         not positive definite falls back to the dense route (which names a singular
         system)."""
-        lay, nrm = self.lay, self.nrm
+        lay = self.lay
         M = lay.M
         if route == "banded" and lay.d:
             raise ValueError("the banded selected inverse needs a fixed datum (d = 0)")
+        if route is None and self.kind == "banded":
+            route = "banded"
         cg = None
         if route is None and lay.d == 0 and lay.ny > BANDED_LIMIT:
             cg = camera_groups(M, lay.pair_a, lay.pair_b)
             route = "banded" if cg.G >= MIN_GROUPS else "dense"
         if route == "banded":
-            cg = cg or camera_groups(M, lay.pair_a, lay.pair_b)
-            sc, sg = self.scale[:6 * M].reshape(M, 6), self.scale[6 * M:]
-            sa, sb = sc[lay.pair_a][:, :, None], sc[lay.pair_b][:, None, :]
-            scg, sgg = sc[:, :, None] * sg, sg[:, None] * sg
             try:
-                blk = banded_inverse_blocks(cg, nrm.Kc * sa * sb, nrm.Kg * scg, nrm.Kgg * sgg,
-                                            lay.pair_a, lay.pair_b)
+                fac = self.fac if self.kind == "banded" else self._banded(
+                    cg or camera_groups(M, lay.pair_a, lay.pair_b))
+                blk = fac.inverse_blocks()
+                _, (sa, sb, scg, sgg) = self._scaled_blocks()
                 return InverseBlocks(blk.pairs * sa * sb, blk.cam_global * scg,
                                      blk.global_global * sgg)
             except np.linalg.LinAlgError:

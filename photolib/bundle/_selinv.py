@@ -164,21 +164,46 @@ class BlockTridiagonal:
         return out
 
 
-def banded_inverse_blocks(cg: CameraGroups, Kc, Kg, Kgg, pair_a, pair_b) -> InverseBlocks:
-    """:class:`InverseBlocks` of the SPD K with camera blocks ``Kc`` (pairs, 6, 6), border
-    ``Kg`` (M, 6, e) and ``Kgg`` (e, e) (all Jacobi-scaled), by the module's formulas.
-    ``np.linalg.LinAlgError`` if K is not positive definite."""
-    fac = BlockTridiagonal(cg, Kc, pair_a, pair_b)
-    Zd, Zs = fac.selected_inverse()
-    pairs = fac.pair_blocks(Zd, Zs, pair_a, pair_b)
-    M, e = Kg.shape[0], Kg.shape[2]
-    if e == 0:
-        return InverseBlocks(pairs, np.zeros((M, 6, 0)), np.zeros((0, 0)))
-    Xg = fac.solve(Kg.reshape(6 * M, e))
-    S = Kgg - Kg.reshape(6 * M, e).T @ Xg
-    Sinv = sla.cho_solve(sla.cho_factor(S, lower=True, check_finite=False), np.eye(e),
-                         check_finite=False)
-    XS = (Xg @ Sinv).reshape(M, 6, e)
-    Xr = Xg.reshape(M, 6, e)
-    pairs = pairs + XS[pair_a] @ Xr[pair_b].transpose(0, 2, 1)
-    return InverseBlocks(pairs, -XS, Sinv)
+class BorderedCholesky:
+    """Cholesky factorisation of the SPD K = [[Kc, Kg], [Kgᵀ, Kgg]] with the camera part
+    ``Kc`` block tridiagonal (:class:`BlockTridiagonal`) and the e global columns as a Schur
+    border: ``Xg = Kc⁻¹ Kg``, ``S = Kgg − Kgᵀ Xg`` (e × e, Cholesky). Solves K x = b and gives
+    the :class:`InverseBlocks` (the module's formulas). All inputs Jacobi-scaled: ``Kc``
+    (pairs, 6, 6), ``Kg`` (M, 6, e), ``Kgg`` (e, e). ``np.linalg.LinAlgError`` if K is not
+    positive definite."""
+
+    def __init__(self, cg: CameraGroups, Kc, Kg, Kgg, pair_a, pair_b):
+        self.tri = BlockTridiagonal(cg, Kc, pair_a, pair_b)
+        self.pair_a, self.pair_b = pair_a, pair_b
+        M, e = Kg.shape[0], Kg.shape[2]
+        self.M, self.e = M, e
+        self.Kg = Kg.reshape(6 * M, e)
+        self.Xg = self.tri.solve(self.Kg) if e else np.zeros((6 * M, 0))
+        S = Kgg - self.Kg.T @ self.Xg
+        self.S = sla.cho_factor(S, lower=True, check_finite=False) if e else None
+
+    def solve(self, b):
+        """``K⁻¹ b`` for b (6M + e,) or (6M + e, m)."""
+        b2 = b.reshape(len(b), -1)
+        n = 6 * self.M
+        xc = self.tri.solve(b2[:n])
+        if self.e:
+            xg = sla.cho_solve(self.S, b2[n:] - self.Kg.T @ xc, check_finite=False)
+            xc = xc - self.Xg @ xg
+            out = np.vstack([xc, xg])
+        else:
+            out = xc
+        return out.reshape(b.shape)
+
+    def inverse_blocks(self) -> InverseBlocks:
+        """The blocks of K⁻¹ of every image pair, image–global and global–global."""
+        Zd, Zs = self.tri.selected_inverse()
+        pairs = self.tri.pair_blocks(Zd, Zs, self.pair_a, self.pair_b)
+        M, e = self.M, self.e
+        if e == 0:
+            return InverseBlocks(pairs, np.zeros((M, 6, 0)), np.zeros((0, 0)))
+        Sinv = sla.cho_solve(self.S, np.eye(e), check_finite=False)
+        XS = (self.Xg @ Sinv).reshape(M, 6, e)
+        Xr = self.Xg.reshape(M, 6, e)
+        pairs = pairs + XS[self.pair_a] @ Xr[self.pair_b].transpose(0, 2, 1)
+        return InverseBlocks(pairs, -XS, Sinv)
