@@ -46,7 +46,8 @@ from photolib.transforms._base import DegenerateGeometryError
 
 #: ratio σ_min/σ_max of a centred point set below which it counts as collinear
 COLLINEAR = 1e-9
-#: relative singular-value threshold of the DLT matrix (as in the other transforms)
+#: relative singular-value threshold below which a design matrix counts as rank deficient
+#: (this DLT and the other transforms' least squares in ``_matrix.py``)
 RANK_TOL = 1e-10
 #: Gauss–Newton stops when the (predicted) remaining change of the unit vector h is below this
 STEP_TOL = 1e-12

@@ -11,7 +11,11 @@ import math
 import numpy as np
 
 from photolib._validate import as_max_iter, as_scalar
-from photolib.transforms._homography import four_point_homography, many_point_homography
+from photolib.transforms._homography import (
+    RANK_TOL,
+    four_point_homography,
+    many_point_homography,
+)
 from photolib.transforms._base import (
     DegenerateGeometryError,
     PlaneTransform,
@@ -22,8 +26,6 @@ from photolib.transforms._base import (
 
 __all__ = ["AffineTransform", "HelmertTransform", "ProjectiveTransform"]
 
-#: relative singular-value threshold below which a design matrix counts as rank deficient
-RANK_TOL = 1e-10
 
 
 def _norm_matrix(centroid, scale) -> np.ndarray:
