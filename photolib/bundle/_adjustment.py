@@ -8,7 +8,9 @@ points eliminated (:func:`~photolib.bundle._blocks.normals`), the solution of th
 camera system (:class:`~photolib.bundle._blocks.ReducedSystem`), the iteration
 (:func:`_iterate`) and, once after convergence, the statistics (:func:`_statistics`): σ0,
 the covariance blocks, ``Q_vv`` and the redundancy numbers of the image and control
-observations, from the block structure (no matrix over all unknowns or observations).
+observations, from the block structure (no matrix over all unknowns or observations) and
+from the normal equations and factor of the last iteration, which was linearised at the
+estimate (the iteration stops when the update computed there is below ``tol``).
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ from photolib._generated.collinearity import (
 from photolib._validate import as_max_iter, as_scalar, as_tolerance
 from photolib.bundle._blocks import (
     Layout,
+    Normals,
     ReducedSystem,
     back_substitute,
     covariances,
@@ -87,7 +90,11 @@ def bundle_adjustment(xy, image_index, point_index, exterior, points, c, x0=0.0,
     calibrate : iterable of str
         Interior parameters to estimate (self-calibration), from ``INTERIOR_PARAMETERS``.
     tol : float
-        Stop when the update is below ``tol`` (angles, rad) and ``tol·extent`` (lengths).
+        Stop when the Gauss–Newton update computed at an iterate is below ``tol`` (angles,
+        rad) and ``tol·extent`` (lengths, extent = largest coordinate range of ``points``):
+        that iterate is the estimate (the update is not applied, as Ceres does at its
+        parameter tolerance), and its σ0, covariances and redundancy numbers come from the
+        normal equations that were tested, not from one more linearisation.
     max_iter : int
         Iteration limit; reaching it raises ``ConvergenceError`` unless ``check=False``.
     check : bool
@@ -149,8 +156,8 @@ def bundle_adjustment(xy, image_index, point_index, exterior, points, c, x0=0.0,
                     control, datum, control_sigma, sigma_image, calibrate, tol, max_iter)
     lay = make_layout(prob.j, prob.i, len(prob.ext), prob.pts, prob.sig, prob.weighted,
                       prob.calib, prob.datum, prob.sigma_image)
-    ext, pts, interior, history, converged = _iterate(prob, lay, check, callback)
-    stats = _statistics(prob, lay, ext, pts, interior)
+    ext, pts, interior, history, converged, lin = _iterate(prob, lay, check, callback)
+    stats = _statistics(prob, lay, ext, pts, interior, lin)
     return BundleResult(
         exterior=ext, points=pts, c=float(interior["c"]), x0=float(interior["x0"]),
         y0=float(interior["y0"]),
@@ -265,60 +272,84 @@ def _vtpv_control(lay: Layout, pts) -> float:
         else 0.0
 
 
+@dataclass(frozen=True)
+class _Linearisation:
+    """The residuals, Jacobian blocks, normal equations and factorised reduced system of one
+    iterate (what an iteration computes before its step)."""
+
+    v: np.ndarray
+    A: np.ndarray
+    Ap: np.ndarray
+    nrm: Normals
+    system: ReducedSystem
+
+
+def _linearise_solve(prob: _Problem, lay: Layout, ext, pts, interior) -> _Linearisation:
+    """Linearisation, normal equations and factorised reduced system at (ext, pts, interior)."""
+    v, A, Ap = linearise(prob, lay, ext, pts, interior)
+    nrm = normals(lay, v, A, Ap, pts)
+    return _Linearisation(v, A, Ap, nrm, ReducedSystem(lay, nrm))
+
+
 def _iterate(prob: _Problem, lay: Layout, check: bool, callback):
     """Gauss–Newton: linearise, normal equations, reduced solve, back-substitution, until the
-    update is below ``tol`` (rad) and ``tol·extent`` (object unit). Returns
-    ``(ext, pts, interior, history, converged)``."""
+    update computed at the current iterate is below ``tol`` (rad) and ``tol·extent`` (object
+    unit). That iterate is the estimate (its update is not applied): the statistics use the
+    normal equations it was tested with. Returns ``(ext, pts, interior, history, converged,
+    lin)``; ``lin`` is the :class:`_Linearisation` of the estimate, ``None`` if the
+    iteration stopped at ``max_iter`` (its last update applied)."""
     ext, pts, interior = prob.ext, prob.pts, dict(prob.interior)
-    M, tol, history, converged = lay.M, prob.tol, [], False
+    M, tol, history = lay.M, prob.tol, []
     dl = da = float("nan")
     for it in range(1, prob.max_iter + 1):
+        lin = None  # the previous iterate's arrays go before this one's are built
         try:
-            v, A, Ap = linearise(prob, lay, ext, pts, interior)
+            lin = _linearise_solve(prob, lay, ext, pts, interior)
         except PointBehindCameraError as exc:
             raise ConvergenceError(f"bundle adjustment diverged in iteration {it}: {exc}") from None
-        nrm = normals(lay, v, A, Ap, pts)
-        dy = ReducedSystem(lay, nrm).solve(nrm.rhs)
-        dp = back_substitute(lay, nrm, dy)
+        dy = lin.system.solve(lin.nrm.rhs)
+        dp = back_substitute(lay, lin.nrm, dy)
         if not (np.all(np.isfinite(dy)) and np.all(np.isfinite(dp))):
             raise ConvergenceError(f"bundle adjustment diverged in iteration {it}: non-finite step")
         de = dy[:6 * M].reshape(M, 6)
-        ext = ext + de
-        pts_before, pts = pts, pts.copy()
-        pts[lay.free] += dp
-        for n, name in enumerate(lay.calib):
-            interior[name] += dy[6 * M + n]
         dl = max(float(np.max(np.abs(de[:, :3]))), float(np.max(np.abs(dp), initial=0.0)))
         da = float(np.max(np.abs(de[:, 3:])))
-        rec = IterationRecord(it, float(np.sum(v**2)) + _vtpv_control(lay, pts_before), dl, da)
+        rec = IterationRecord(it, float(np.sum(lin.v**2)) + _vtpv_control(lay, pts), dl, da)
         history.append(rec)
         if callback is not None:
             callback(rec)
         if dl <= tol * lay.extent and da <= tol:
-            converged = True
-            break
+            return ext, pts, interior, history, True, lin
         if dl > 1e6 * lay.extent:
             raise ConvergenceError(f"bundle adjustment diverged in iteration {it}: an update of "
                                    f"{dl:.3g} object units")
-    if not converged and check:
+        ext = ext + de
+        pts = pts.copy()
+        pts[lay.free] += dp
+        for n, name in enumerate(lay.calib):
+            interior[name] += dy[6 * M + n]
+    if check:
         raise ConvergenceError(f"bundle adjustment did not converge to tol={tol:g} in "
                                f"{prob.max_iter} iterations (last length update {dl:.3g}, angle "
                                f"update {da:.3g}); pass check=False to get the last iterate")
-    return ext, pts, interior, history, converged
+    return ext, pts, interior, history, False, None
 
 
-def _statistics(prob: _Problem, lay: Layout, ext, pts, interior) -> dict:
-    r"""σ0, covariances (scaled by σ0²), residuals, q_vv and redundancy numbers at the final
-    iterate, from the block structure (:func:`~photolib.bundle._blocks.covariances`):
+def _statistics(prob: _Problem, lay: Layout, ext, pts, interior,
+                lin: _Linearisation | None = None) -> dict:
+    r"""σ0, covariances (scaled by σ0²), residuals, q_vv and redundancy numbers at the
+    estimate, from the block structure (:func:`~photolib.bundle._blocks.covariances`) and
+    the normal equations ``lin`` of the estimate (linearised here if ``None``):
 
     ``σ̂0² = (vᵀv + Σ p_c v_c²)/r``, ``r_k = q_vv,k = 1 − (A Q_xx Aᵀ)_kk`` (P = I) and for a
     control coordinate ``q_vv,c = 1/p_c − (Q_xx)_cc``, ``r_c = p_c·q_vv,c``."""
-    try:
-        v, A, Ap = linearise(prob, lay, ext, pts, interior)
-    except PointBehindCameraError as exc:
-        raise ConvergenceError(f"bundle adjustment ended with {exc}") from None
-    nrm = normals(lay, v, A, Ap, pts)
-    inv = ReducedSystem(lay, nrm).inverse_blocks()  # the covariance: once, after convergence
+    if lin is None:
+        try:
+            lin = _linearise_solve(prob, lay, ext, pts, interior)
+        except PointBehindCameraError as exc:
+            raise ConvergenceError(f"bundle adjustment ended with {exc}") from None
+    v, A, Ap, nrm = lin.v, lin.A, lin.Ap, lin.nrm
+    inv = lin.system.inverse_blocks()  # the covariance: once, after convergence
     cov = covariances(lay, nrm, inv, A, Ap, prob.j)
     qvv = np.clip(1.0 - cov.qhat, 0.0, 1.0)
     r = lay.r
