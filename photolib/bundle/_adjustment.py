@@ -10,7 +10,9 @@ camera system (:class:`~photolib.bundle._blocks.ReducedSystem`), the iteration
 the covariance blocks, ``Q_vv`` and the redundancy numbers of the image and control
 observations, from the block structure (no matrix over all unknowns or observations) and
 from the normal equations and factor of the last iteration, which was linearised at the
-estimate (the iteration stops when the update computed there is below ``tol``).
+estimate (the iteration stops when the update computed there is below ``tol``, extent =
+the largest coordinate range of the start points; the update is not applied, as Ceres does
+at its parameter tolerance).
 """
 
 from __future__ import annotations
@@ -90,11 +92,8 @@ def bundle_adjustment(xy, image_index, point_index, exterior, points, c, x0=0.0,
     calibrate : iterable of str
         Interior parameters to estimate (self-calibration), from ``INTERIOR_PARAMETERS``.
     tol : float
-        Stop when the Gauss–Newton update computed at an iterate is below ``tol`` (angles,
-        rad) and ``tol·extent`` (lengths, extent = largest coordinate range of ``points``):
-        that iterate is the estimate (the update is not applied, as Ceres does at its
-        parameter tolerance), and its σ0, covariances and redundancy numbers come from the
-        normal equations that were tested, not from one more linearisation.
+        Stop at the iterate whose update is below ``tol`` (angles, rad) and ``tol·extent``
+        (lengths); that iterate, the update not applied, is the estimate (see the module).
     max_iter : int
         Iteration limit; reaching it raises ``ConvergenceError`` unless ``check=False``.
     check : bool
