@@ -21,6 +21,7 @@ from photolib import bundle as bd
 from photolib.bundle import _blocks, _selinv
 from photolib.bundle._adjustment import _prepare, linearise
 from photolib.bundle._blocks import make_layout
+from photolib.errors import PointBehindCameraError
 from tests.test_bundle import C, _block, _corners, _start
 
 TOL = 1e-10
@@ -232,3 +233,38 @@ def test_banded_route_refuses_a_free_network_and_falls_back_when_not_definite(mo
     monkeypatch.setattr(_blocks, "MIN_GROUPS", 1)
     auto, dense = system.inverse_blocks(), system.inverse_blocks("dense")
     np.testing.assert_array_equal(auto.pairs, dense.pairs)
+
+
+@pytest.mark.parametrize("calibrate", [(), ("c", "x0", "y0", "A1")], ids=["plain", "self-calibration"])
+def test_linearisation_in_chunks_equals_one_pass_and_names_the_point_behind(calibrate,
+                                                                            monkeypatch):
+    """``linearise`` runs the generated code on LIN_CHUNK observations at a time: with chunks
+    of 7 (boundaries inside images and points) the residuals and Jacobian blocks are those of
+    one pass over all observations, and a point behind a camera in a later chunk is named
+    with its own indices."""
+    from photolib.bundle import _adjustment as ad
+
+    xy, ji, pi, ext, P = _block()
+    control = _corners(P)
+    ext0, P0 = _start(ext, P, control)
+    prob = _prepare(xy, ji, pi, ext0, P0, C, 0.0, 0.0, None, control, "control", None, None,
+                    calibrate, 1e-10, 30)
+    lay = make_layout(prob.j, prob.i, len(prob.ext), prob.pts, prob.sig, prob.weighted,
+                      prob.calib, prob.datum, prob.sigma_image)
+    interior = dict(prob.interior) | {"A1": 1e-6}
+    monkeypatch.setattr(ad, "LIN_CHUNK", len(xy) + 1)
+    whole = linearise(prob, lay, prob.ext, prob.pts, interior)
+    monkeypatch.setattr(ad, "LIN_CHUNK", 7)
+    chunked = linearise(prob, lay, prob.ext, prob.pts, interior)
+    for a, b in zip(whole, chunked):
+        np.testing.assert_array_equal(a, b)
+    first = np.full(len(P0), len(xy))
+    np.minimum.at(first, pi, np.arange(len(xy)))
+    p = int(np.argmax(np.where(np.isin(np.arange(len(P0)), control), -1, first)))
+    q = int(first[p])
+    assert q > 7  # its first observation lies beyond the first chunk
+    pts = prob.pts.copy()
+    pts[p, 2] = ext0[:, 2].max() + 50.0  # above every (nadir) camera: behind all of them
+    with pytest.raises(PointBehindCameraError,
+                       match=rf"object point {p} is not in front of image {ji[q]}: N = "):
+        linearise(prob, lay, prob.ext, pts, interior)
