@@ -359,9 +359,7 @@ class ReducedSystem:
             self.fac = sla.lu_factor(self.Ks, check_finite=False)
 
     def _solve_s(self, b):
-        if self.kind == "banded":
-            return self.fac.solve(b)
-        if self.kind == "splu":
+        if self.kind in ("banded", "splu"):
             return self.fac.solve(b)
         if self.kind == "cholesky":
             return sla.cho_solve(self.fac, b, check_finite=False)
